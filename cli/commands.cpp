@@ -1,0 +1,30 @@
+#include "cli/commands.h"
+
+namespace vfsd::cli {
+
+const std::vector<Command>& commands() {
+    static const std::vector<Command> list = {
+        {"info", "print counts, topology, valence, bounding box and volume of a mesh",
+         "usage: vfsd info MESH\n"
+         "\n"
+         "MESH is a file (.obj .off .ply .stl .gltf .glb) or builtin:NAME[:RESOLUTION]\n"
+         "(NAME: box, bar, cylinder, sphere).\n"
+         "Prints vertices, triangles, boundary loops, whether the mesh is manifold and\n"
+         "why not, the valence histogram, the bounding box and the signed volume.\n",
+         run_info},
+        {"convert", "convert a mesh between formats",
+         "usage: vfsd convert IN OUT [--force]\n"
+         "\n"
+         "Reads IN (.obj .off .ply .stl .gltf .glb or builtin:NAME) and writes OUT\n"
+         "(.obj .off .ply .glb), atomically. OUT must differ from IN; an existing OUT\n"
+         "is replaced only with --force.\n",
+         run_convert},
+        {"deform", "deform a mesh as a scene file describes and report the result",
+         "usage: vfsd deform SCENE.json --out OUT.{obj,off,ply,glb} [--report REPORT.json]\n"
+         "                  [--steps N] [--backend cpu] [--field-out FILE] [--force]\n",
+         run_deform},
+    };
+    return list;
+}
+
+}  // namespace vfsd::cli

@@ -1,0 +1,54 @@
+#pragma once
+// The subcommands of the vfsd CLI and the small argument parser they share.
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace vfsd::cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitInput = 1;
+constexpr int kExitUsage = 2;
+
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// Positional arguments and --name value / --flag options, parsed against the
+// options a command declares.
+class Args {
+public:
+    Args(const char* command, int argc, char** argv);
+    bool wants_help() const { return help_; }
+    // The i-th positional argument; throws UsageError naming `what` when missing.
+    const std::string& positional(std::size_t i, const char* what) const;
+    std::size_t positional_count() const { return positional_.size(); }
+    bool has(const std::string& option) const { return options_.count(option) > 0; }
+    std::string get(const std::string& option, const std::string& fallback = "") const;
+    double get_number(const std::string& option, double fallback) const;
+    // Throws UsageError for any option not in `known`, and when the number of
+    // positionals is outside [min_positional, max_positional].
+    void expect(const std::vector<std::string>& known, std::size_t min_positional, std::size_t max_positional) const;
+
+private:
+    bool help_ = false;
+    std::vector<std::string> positional_;
+    std::map<std::string, std::string> options_;
+};
+
+struct Command {
+    const char* name;
+    const char* summary;
+    const char* help;
+    int (*run)(const Args&);
+};
+
+const std::vector<Command>& commands();
+
+int run_info(const Args& args);
+int run_convert(const Args& args);
+int run_deform(const Args& args);
+
+}  // namespace vfsd::cli

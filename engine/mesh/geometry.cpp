@@ -1,0 +1,46 @@
+#include "mesh/geometry.h"
+
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+namespace vfsd {
+
+double BoundingBox::diagonal() const { return glm::length(max - min); }
+
+BoundingBox bounding_box(const std::vector<Vec3>& positions) {
+    if (positions.empty()) return {};
+    BoundingBox box{Vec3(std::numeric_limits<double>::infinity()), Vec3(-std::numeric_limits<double>::infinity())};
+    for (const Vec3& p : positions) {
+        box.min = glm::min(box.min, p);
+        box.max = glm::max(box.max, p);
+    }
+    return box;
+}
+
+double signed_volume(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles) {
+    // Sec. 7.2: sum over triangles of det(p0, p1, p2) / 6 (tetrahedron with the origin).
+    double six_volume = 0.0;
+    for (const Triangle& t : triangles)
+        six_volume += glm::dot(positions[t[0]], glm::cross(positions[t[1]], positions[t[2]]));
+    return six_volume / 6.0;
+}
+
+void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals) {
+    normals.resize(positions.size());
+    for (std::uint32_t v = 0; v < rings.vertex_count(); ++v) {
+        const Vec3 x = positions[v];
+        Vec3 sum(0.0);
+        for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
+            if (!rings.wedge[i]) continue;
+            const Vec3 a = positions[rings.neighbours[i]] - x;
+            const Vec3 b = positions[rings.neighbours[rings.next(v, i)]] - x;
+            sum += glm::cross(a, b);  // twice the triangle's area times its normal
+        }
+        const double len = glm::length(sum);
+        normals[v] = len > 0.0 ? sum / len : Vec3(0.0);
+    }
+}
+
+}  // namespace vfsd

@@ -1,0 +1,23 @@
+#pragma once
+// Geometric quantities of a triangle mesh.
+
+#include <vector>
+
+#include "mesh/triangle_mesh.h"
+#include "mesh/vertex_rings.h"
+
+namespace vfsd {
+
+BoundingBox bounding_box(const std::vector<Vec3>& positions);
+
+// Signed volume as sec. 7.2 defines it: the sum of the signed volumes of the
+// tetrahedra spanned by each triangle and the origin. Exact for closed meshes;
+// for open meshes it depends on the origin (see is_closed in the validation report).
+double signed_volume(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles);
+
+// Area-weighted vertex normals: the normalised sum of the (unnormalised) normals of
+// the triangles in each vertex's fan, gathered over the ordered ring as the normal
+// pass of sec. 5 does. Vertices with a zero sum get (0,0,0).
+void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals);
+
+}  // namespace vfsd
