@@ -1,6 +1,8 @@
 # Third-party libraries, all from Debian's packages (scripts/install-deps).
 # vfsd::thirdparty carries the header-only libraries the engine uses:
-# GLM (vector and matrix types), nlohmann/json (scene files) and tinygltf.
+# GLM (vector and matrix types), nlohmann/json (scene files) and tinygltf with
+# the stb image headers it includes. Both builds compile tinygltf's
+# implementation from source (engine/io), so Debian's libtinygltf.so is unused.
 add_library(vfsd_thirdparty INTERFACE)
 add_library(vfsd::thirdparty ALIAS vfsd_thirdparty)
 
@@ -19,12 +21,10 @@ if(EMSCRIPTEN)
     endif()
   endforeach()
   target_include_directories(vfsd_thirdparty SYSTEM INTERFACE ${_hdr})
-  set(VFSD_TINYGLTF_IMPL ON)
 else()
   find_package(glm REQUIRED)
   find_package(nlohmann_json REQUIRED)
   find_package(Threads REQUIRED)
   target_link_libraries(vfsd_thirdparty INTERFACE glm::glm nlohmann_json::nlohmann_json Threads::Threads)
   target_include_directories(vfsd_thirdparty SYSTEM INTERFACE /usr/include/stb)
-  set(VFSD_TINYGLTF_IMPL ON)
 endif()
