@@ -1,0 +1,58 @@
+#pragma once
+// The full deformation the inner region undergoes (sec. 4.2): it follows the curve
+// c(t), either translating (eqs. 9–10) or rotating about the curvature centre
+// (eqs. 11–13), and twists about the tangent by α(t) (eq. 14). At every time t the
+// inner region moves rigidly with the velocity
+//
+//     u(x) = ċ(t) + (ω(t) + τ(t)) × (x − c(t)),
+//
+// where ω is the angular velocity of the rotation mode and τ = α̇(t) ĉ(t) the twist.
+// MotionSample is what the vector field (field/vector_field.h) needs at one time.
+
+#include "curve/bezier_curve.h"
+
+namespace vfsd {
+
+enum class InnerMotionMode {
+    Rotation,     // eqs. (11)–(13): location and orientation follow the curve
+    Translation,  // eqs. (9)–(10): location follows the curve, orientation is kept
+};
+
+struct MotionSample {
+    Vec3 position{0.0};          // c(t)
+    Vec3 velocity{0.0};          // ċ(t)
+    Vec3 angular_velocity{0.0};  // ω(t), zero in translation mode
+    Vec3 twist{0.0};             // τ(t) = α̇(t) ĉ(t)
+};
+
+class InnerMotion {
+public:
+    // Inner region follows `curve`; α(t) = alpha0 + t (alpha1 − alpha0) in radians,
+    // positive angles counter-clockwise about ċ (right-hand rule).
+    static InnerMotion along_curve(BezierCurve curve, InnerMotionMode mode, double alpha0, double alpha1);
+    // Inner region turns about the fixed point `centre` by the rotation vector
+    // `axis_angle` (direction = axis, length = angle in radians) over t in [0,1]:
+    // the pure handle rotation of sec. 6.2, eq. (5) with z = h.
+    static InnerMotion rotation_about(Vec3 centre, Vec3 axis_angle);
+
+    MotionSample at(double t) const;
+
+    InnerMotionMode mode() const { return mode_; }
+    const BezierCurve& curve() const { return curve_; }
+    bool is_fixed_rotation() const { return fixed_rotation_; }
+    double alpha0() const { return alpha0_; }
+    double alpha1() const { return alpha1_; }
+    const Vec3& rotation_centre() const { return centre_; }
+    const Vec3& rotation_vector() const { return axis_angle_; }
+
+private:
+    MotionSample curve_sample(double t) const;
+
+    InnerMotionMode mode_ = InnerMotionMode::Rotation;
+    BezierCurve curve_;
+    double alpha0_ = 0.0, alpha1_ = 0.0;
+    bool fixed_rotation_ = false;
+    Vec3 centre_{0.0}, axis_angle_{0.0};
+};
+
+}  // namespace vfsd

@@ -1,0 +1,76 @@
+#include "deform/deformation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "base/error.h"
+
+namespace vfsd {
+
+Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
+                         DeformationOptions options)
+    : positions_(std::move(positions)),
+      rings_(std::move(rings)),
+      region_(std::move(region)),
+      motion_(std::move(motion)),
+      options_(options) {
+    if (options_.steps < 1) throw InputError("steps must be at least 1");
+    if (options_.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
+    if (!region_.sphere_tool) {
+        if (region_.s.size() != positions_.size())
+            throw InputError("region: " + std::to_string(region_.s.size()) + " values of s for " +
+                             std::to_string(positions_.size()) + " vertices");
+        if (rings_.vertex_count() != positions_.size()) throw InputError("rings do not match the mesh");
+    }
+    normals_.resize(positions_.size());
+    gradients_.resize(positions_.size());
+    scratch_.resize(positions_.size());
+    next_.resize(positions_.size());
+}
+
+int Deformation::advance(double target, int max_steps) {
+    target = std::clamp(target, 0.0, 1.0);
+    const double n = options_.steps;
+    int taken = 0;
+    while (taken < max_steps && time_ != target) {
+        // Walk along the grid k / steps; a step toward an off-grid target ends on it.
+        const double k = time_ * n;
+        double next = target > time_ ? (std::floor(k + 1e-9) + 1.0) / n : (std::ceil(k - 1e-9) - 1.0) / n;
+        if ((target > time_) == (next > target)) next = target;
+        step(next - time_);
+        time_ = next;
+        ++taken;
+    }
+    return taken;
+}
+
+void Deformation::step(double h) {
+    const auto start = std::chrono::steady_clock::now();
+    const StepMotion motion = StepMotion::sample(motion_, time_, h);
+    next_ = positions_;
+    if (region_.sphere_tool) {
+        deformation_step(motion, *region_.sphere_tool, next_);
+    } else {
+        estimate_normals(positions_, rings_, normals_);
+        estimate_gradients(positions_, normals_, region_.s, rings_, gradients_);
+        smooth_gradients(normals_, rings_, options_.smoothing_steps, options_.smoothing_weight, gradients_, scratch_);
+        deformation_step(motion, region_.s, gradients_, next_);
+    }
+    check_finite(next_);
+    positions_.swap(next_);
+    step_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+}
+
+void Deformation::check_finite(const std::vector<Vec3>& candidate) const {
+    for (std::size_t v = 0; v < candidate.size(); ++v) {
+        const Vec3& p = candidate[v];
+        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) continue;
+        throw NumericalError("integration step " + std::to_string(step_ms_.size() + 1) + " (t = " +
+                             std::to_string(time_) + ") made vertex " + std::to_string(v) +
+                             " non-finite; the mesh before that step is kept");
+    }
+}
+
+}  // namespace vfsd

@@ -1,0 +1,64 @@
+#pragma once
+// A deformation in progress: the mesh's positions at the current time t, moved
+// toward a target time by fixed RK4 steps (sec. 5). Forward and backward both
+// work; the time grid is k / steps, so integrating back returns along it.
+//
+// Every step runs the four passes of deform/passes.h in order. The region is
+// either a surface field s (sec. 3, r = s) or the implicit sphere tool of [23].
+
+#include <optional>
+#include <vector>
+
+#include "curve/inner_motion.h"
+#include "deform/passes.h"
+#include "mesh/vertex_rings.h"
+
+namespace vfsd {
+
+struct DeformationOptions {
+    int steps = 250;               // RK4 steps from t = 0 to t = 1 (sec. 7.1: 200–300)
+    int smoothing_steps = 10;      // Laplacian steps on ∇r per integration step
+    double smoothing_weight = 0.5; // how far each step moves ∇r toward its ring mean
+};
+
+// Which part of the shape moves: s per vertex (0 full, 1 none), or the sphere tool.
+struct Region {
+    std::vector<double> s;
+    std::optional<SphereTool> sphere_tool;
+};
+
+class Deformation {
+public:
+    // Throws InputError when sizes disagree or options are out of range.
+    Deformation(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
+                DeformationOptions options = {});
+
+    // Integrates toward `target` (clamped to [0,1]) taking at most `max_steps`
+    // steps; returns the number taken. Throws NumericalError naming the step and
+    // vertex if a position becomes non-finite (the positions before that step are kept).
+    int advance(double target, int max_steps = 1 << 30);
+
+    double time() const { return time_; }
+    const std::vector<Vec3>& positions() const { return positions_; }
+    const Region& region() const { return region_; }
+    const InnerMotion& motion() const { return motion_; }
+    const DeformationOptions& options() const { return options_; }
+    // Wall time of every step taken so far, in milliseconds.
+    const std::vector<double>& step_milliseconds() const { return step_ms_; }
+
+private:
+    void step(double h);
+    void check_finite(const std::vector<Vec3>& candidate) const;
+
+    std::vector<Vec3> positions_;
+    VertexRings rings_;
+    Region region_;
+    InnerMotion motion_;
+    DeformationOptions options_;
+    double time_ = 0.0;
+    // Per-step work arrays, sized once.
+    std::vector<Vec3> normals_, gradients_, scratch_, next_;
+    std::vector<double> step_ms_;
+};
+
+}  // namespace vfsd

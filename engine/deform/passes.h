@@ -1,0 +1,52 @@
+#pragma once
+// The four per-step passes of sec. 5, each a function over flat per-vertex arrays
+// with the name of its GPU shader (shaders/ mirrors them one to one):
+//   1. normal pass       estimate_normals
+//   2. gradient pass     estimate_gradients     (eq. 6)
+//   3. smoothing pass    smooth_gradients
+//   4. deformation pass  deformation_step       (one RK4 step of v + ṽ)
+// None of them allocates once its output arrays have their size.
+
+#include <vector>
+
+#include "curve/inner_motion.h"
+#include "mesh/vertex_rings.h"
+
+namespace vfsd {
+
+// Normal pass: area-weighted vertex normals from the ordered 1-rings.
+void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals);
+
+// Gradient pass, eq. (6): per vertex x, the gradient g of the linear function
+// r(y) = s(x) + g·(y − x) with g·n(x) = 0 that fits s best, in the least-squares
+// sense, on the 1-ring of x.
+void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                        const std::vector<double>& s, const VertexRings& rings, std::vector<Vec3>& gradients);
+
+// Smoothing pass: `steps` Laplacian steps moving each gradient by `weight` toward
+// the mean gradient of its 1-ring, kept tangent to the surface (normal removed).
+// `scratch` is a work array (resized once).
+void smooth_gradients(const std::vector<Vec3>& normals, const VertexRings& rings, int steps, double weight,
+                      std::vector<Vec3>& gradients, std::vector<Vec3>& scratch);
+
+// The motion at the three RK4 times of one step from t to t + h.
+struct StepMotion {
+    MotionSample start, middle, end;  // at t, t + h/2, t + h
+    double h = 0.0;
+    static StepMotion sample(const InnerMotion& motion, double t, double h);
+};
+
+// Deformation pass: one RK4 step of every vertex along v + ṽ (eqs. 1–4, 9–14)
+// with r = s and ∇r = `gradients`, both held fixed over the step.
+void deformation_step(const StepMotion& motion, const std::vector<double>& s, const std::vector<Vec3>& gradients,
+                      std::vector<Vec3>& positions);
+
+// The implicit sphere tool of VFSD [23] as region: r = |x − centre| with
+// thresholds r_inner < r_outer, evaluated at every RK4 stage (no mesh needed).
+struct SphereTool {
+    Vec3 centre{0.0};
+    double r_inner = 0.0, r_outer = 1.0;
+};
+void deformation_step(const StepMotion& motion, const SphereTool& tool, std::vector<Vec3>& positions);
+
+}  // namespace vfsd

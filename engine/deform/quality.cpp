@@ -1,0 +1,95 @@
+#include "deform/quality.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "base/rigid_fit.h"
+#include "mesh/geometry.h"
+
+namespace vfsd {
+namespace {
+
+// For each triangle, the triangles sharing one of its edges (any orientation).
+std::vector<std::vector<std::uint32_t>> edge_neighbours(const std::vector<Triangle>& triangles) {
+    struct Edge {
+        std::uint32_t a, b, triangle;
+    };
+    std::vector<Edge> edges;
+    edges.reserve(triangles.size() * 3);
+    for (std::uint32_t t = 0; t < triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
+            edges.push_back({std::min(a, b), std::max(a, b), t});
+        }
+    std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    std::vector<std::vector<std::uint32_t>> neighbours(triangles.size());
+    for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i;
+        while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
+        for (std::size_t p = i; p < j; ++p)
+            for (std::size_t q = i; q < j; ++q)
+                if (p != q) neighbours[edges[p].triangle].push_back(edges[q].triangle);
+        i = j;
+    }
+    return neighbours;
+}
+
+Vec3 unit_normal(const std::vector<Vec3>& x, const Triangle& t) {
+    const Vec3 n = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
+    const double len = glm::length(n);
+    return len > 0.0 ? n / len : Vec3(0.0);
+}
+
+// True when triangle t faces against the mean normal of its edge neighbours.
+bool faces_against_neighbours(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles,
+                              const std::vector<std::uint32_t>& neighbours, std::uint32_t t) {
+    if (neighbours.empty()) return false;
+    Vec3 mean(0.0);
+    for (std::uint32_t u : neighbours) mean += unit_normal(x, triangles[u]);
+    return glm::dot(unit_normal(x, triangles[t]), mean) < 0.0;
+}
+
+bool is_finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+}  // namespace
+
+std::size_t count_flipped_triangles(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
+                                    const std::vector<Triangle>& triangles) {
+    const auto neighbours = edge_neighbours(triangles);
+    std::size_t flipped = 0;
+    for (std::uint32_t t = 0; t < triangles.size(); ++t)
+        if (faces_against_neighbours(after, triangles, neighbours[t], t) &&
+            !faces_against_neighbours(before, triangles, neighbours[t], t))
+            ++flipped;
+    return flipped;
+}
+
+DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
+                                   const std::vector<Triangle>& triangles, const std::vector<double>& s) {
+    DeformationQuality q;
+    q.volume_before = signed_volume(before, triangles);
+    q.volume_after = signed_volume(after, triangles);
+    q.volume_error_percent = q.volume_before != 0.0
+                                 ? 100.0 * std::abs(q.volume_after - q.volume_before) / std::abs(q.volume_before)
+                                 : 0.0;
+    std::vector<Vec3> inner_before, inner_after;
+    for (std::size_t v = 0; v < before.size(); ++v) {
+        if (!is_finite(after[v])) ++q.nonfinite_vertices;
+        if (s[v] >= 1.0) {
+            ++q.outer_vertices;
+            q.outer_max_displacement = std::max(q.outer_max_displacement, glm::length(after[v] - before[v]));
+        } else if (s[v] <= 0.0) {
+            inner_before.push_back(before[v]);
+            inner_after.push_back(after[v]);
+        }
+    }
+    q.inner_vertices = inner_before.size();
+    const double diagonal = bounding_box(before).diagonal();
+    if (!inner_before.empty() && diagonal > 0.0)
+        q.inner_rigid_residual = fit_rigid(inner_before, inner_after).rms_residual / diagonal;
+    q.flipped_triangles = count_flipped_triangles(before, after, triangles);
+    return q;
+}
+
+}  // namespace vfsd

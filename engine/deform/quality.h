@@ -1,0 +1,34 @@
+#pragma once
+// What the evaluation of sec. 7 measures about a finished deformation: volume
+// change (sec. 7.1, volume as in sec. 7.2), local foldovers, and whether the
+// outer region stayed put and the inner region moved rigidly.
+
+#include <cstdint>
+#include <vector>
+
+#include "mesh/triangle_mesh.h"
+
+namespace vfsd {
+
+struct DeformationQuality {
+    double volume_before = 0.0;
+    double volume_after = 0.0;
+    double volume_error_percent = 0.0;    // 100 |after − before| / |before|
+    double outer_max_displacement = 0.0;  // largest move of an outer vertex (s = 1)
+    double inner_rigid_residual = 0.0;    // RMS distance of inner vertices (s = 0) from their best rigid fit, / diagonal
+    std::size_t inner_vertices = 0;
+    std::size_t outer_vertices = 0;
+    std::size_t flipped_triangles = 0;
+    std::size_t nonfinite_vertices = 0;
+};
+
+// `s` is the region field at the start (0 inner, 1 outer).
+DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
+                                   const std::vector<Triangle>& triangles, const std::vector<double>& s);
+
+// Triangles whose normal points against the mean normal of their edge neighbours
+// in `after` but not in `before`: local foldovers the deformation created.
+std::size_t count_flipped_triangles(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
+                                    const std::vector<Triangle>& triangles);
+
+}  // namespace vfsd

@@ -1,0 +1,52 @@
+#include "field/vector_field.h"
+
+#include <cmath>
+
+namespace vfsd {
+namespace {
+
+// f ∇e − e ∇f for the rotation fields about an axis through the origin of y with
+// angular velocity Ω. With e = λ â·y, f = λ² |y⊥|² and 2λ³ = |Ω| (so that
+// ∇e × ∇f = Ω × y, eq. 5 scaled):  f ∇e − e ∇f = ½ |y⊥|² Ω − (Ω·y) y⊥,
+// y⊥ being the part of y perpendicular to Ω.
+Vec3 rotation_stream(const Vec3& omega, const Vec3& y) {
+    const double len = glm::length(omega);
+    if (len == 0.0) return Vec3(0.0);
+    const Vec3 axis = omega / len;
+    const Vec3 y_perp = y - glm::dot(axis, y) * axis;
+    return 0.5 * glm::dot(y_perp, y_perp) * omega - glm::dot(omega, y) * y_perp;
+}
+
+}  // namespace
+
+double bernstein_blend(double u) {
+    if (u <= 0.0) return 0.0;
+    if (u >= 1.0) return 1.0;
+    return u * u * u * (4.0 - 3.0 * u);  // B_3^4 + B_4^4
+}
+
+double bernstein_blend_derivative(double u) {
+    if (u <= 0.0 || u >= 1.0) return 0.0;
+    return 12.0 * u * u * (1.0 - u);
+}
+
+Vec3 inner_velocity(const MotionSample& m, const Vec3& x) {
+    return m.velocity + glm::cross(m.angular_velocity + m.twist, x - m.position);
+}
+
+Vec3 stream_vector(const MotionSample& m, const Vec3& x) {
+    // Translation, eqs. (9)–(10): e = a·y, f = b·y with a × b = ċ give
+    // f ∇e − e ∇f = (b·y) a − (a·y) b = y × ċ, free of the choice of a, b.
+    // Rotation, eqs. (11)–(13), with f shifted so that f(c) = 0 as in eq. (10):
+    // the curvature-centre terms cancel to the same y × ċ plus a rotation stream
+    // about the axis through c. The twist, eq. (14), is a rotation stream too.
+    const Vec3 y = x - m.position;
+    return glm::cross(y, m.velocity) + rotation_stream(m.angular_velocity, y) + rotation_stream(m.twist, y);
+}
+
+Vec3 deformation_velocity(const MotionSample& m, const Vec3& x, double b, const Vec3& grad_b) {
+    const double a = 1.0 - b;
+    return a * a * inner_velocity(m, x) - a * glm::cross(stream_vector(m, x), grad_b);
+}
+
+}  // namespace vfsd
