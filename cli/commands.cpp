@@ -5,12 +5,13 @@ namespace vfsd::cli {
 const std::vector<Command>& commands() {
     static const std::vector<Command> list = {
         {"info", "print counts, topology, valence, bounding box and volume of a mesh",
-         "usage: vfsd info MESH\n"
+         "usage: vfsd info MESH [--json]\n"
          "\n"
          "MESH is a file (.obj .off .ply .stl .gltf .glb) or builtin:NAME[:RESOLUTION]\n"
          "(NAME: box, bar, cylinder, sphere).\n"
          "Prints vertices, triangles, boundary loops, whether the mesh is manifold and\n"
-         "why not, the valence histogram, the bounding box and the signed volume.\n",
+         "why not, the valence histogram, the bounding box and the signed volume;\n"
+         "--json prints the same as one JSON object.\n",
          run_info},
         {"convert", "convert a mesh between formats",
          "usage: vfsd convert IN OUT [--force]\n"
