@@ -1,0 +1,276 @@
+// Approximate geodesic distances: shortest-path propagation plus local smoothing
+// (sec. 6.1 of von Funck, Theisel, Seidel, "Explicit Control of Vector Field Based
+// Shape Deformations").
+// References: Dijkstra (1959); Kimmel & Sethian, "Computing geodesic paths on
+// manifolds" (1998) for fast marching on triangles; the point-source triangle update
+// follows Novotni & Klein, "Computing geodesic distances on triangular meshes" (2002).
+#include "region/geodesic.h"
+
+#include <cmath>
+#include <functional>
+#include <queue>
+#include <string>
+
+#include "base/error.h"
+
+namespace vfsd {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct HeapEntry {
+    double distance;
+    std::uint32_t vertex;
+    bool operator>(const HeapEntry& o) const { return distance > o.distance; }
+};
+using MinHeap = std::priority_queue<HeapEntry, std::vector<HeapEntry>, std::greater<HeapEntry>>;
+
+// A weighted graph in CSR form: the links of vertex v are [offsets[v], offsets[v+1]).
+struct LinkGraph {
+    std::vector<std::uint32_t> offsets;
+    std::vector<std::uint32_t> targets;
+    std::vector<double> lengths;
+};
+
+// The other apex w of the triangle across edge (a, b) from the triangle (v, a, b):
+// in a's ring that triangle is (a, w, b), so w precedes b. Returns false if absent.
+bool opposite_apex(const VertexRings& rings, std::uint32_t a, std::uint32_t b, std::uint32_t& w) {
+    for (std::uint32_t i = rings.begin(a); i < rings.end(a); ++i) {
+        if (rings.neighbours[i] != b) continue;
+        const std::uint32_t prev = i == rings.begin(a) ? rings.end(a) - 1 : i - 1;
+        if (!rings.wedge[prev]) return false;
+        w = rings.neighbours[prev];
+        return true;
+    }
+    return false;
+}
+
+// Length of the straight link v-w across edge (a, b) in the unfolded pair of triangles
+// (v, a, b) and (w, b, a); +infinity when the unfolded segment misses the edge (the
+// quad is not convex there, so the shortest path runs through a or b anyway).
+double unfolded_link_length(const Vec3& v, const Vec3& w, const Vec3& a, const Vec3& b) {
+    const Vec3 e = b - a;
+    const double len = glm::length(e);
+    if (len <= 0.0) return kInf;
+    const Vec3 u = e / len;
+    const double xv = glm::dot(v - a, u), yv = glm::length((v - a) - xv * u);
+    const double xw = glm::dot(w - a, u), yw = glm::length((w - a) - xw * u);
+    if (yv + yw <= 0.0) return kInf;
+    const double x = xv + (xw - xv) * yv / (yv + yw);  // where the segment meets the edge line
+    if (x <= 0.0 || x >= len) return kInf;
+    return std::hypot(xv - xw, yv + yw);
+}
+
+// The edge graph of the rings, optionally with the edge-flip links added.
+LinkGraph build_link_graph(const std::vector<Vec3>& p, const VertexRings& rings, bool flip_links) {
+    const auto n = static_cast<std::uint32_t>(rings.vertex_count());
+    LinkGraph g;
+    g.offsets.assign(n + 1, 0);
+    g.targets.reserve(rings.neighbours.size() * (flip_links ? 2 : 1));
+    g.lengths.reserve(g.targets.capacity());
+    for (std::uint32_t v = 0; v < n; ++v) {
+        for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
+            const std::uint32_t a = rings.neighbours[i];
+            g.targets.push_back(a);
+            g.lengths.push_back(glm::length(p[a] - p[v]));
+            std::uint32_t w = 0;
+            const std::uint32_t b = rings.neighbours[rings.next(v, i)];
+            if (!flip_links || !rings.wedge[i] || !opposite_apex(rings, a, b, w) || w == v) continue;
+            const double len = unfolded_link_length(p[v], p[w], p[a], p[b]);
+            if (len < kInf) {
+                g.targets.push_back(w);
+                g.lengths.push_back(len);
+            }
+        }
+        g.offsets[v + 1] = static_cast<std::uint32_t>(g.targets.size());
+    }
+    return g;
+}
+
+void push_seeds(const std::vector<double>& dist, MinHeap& heap) {
+    for (std::uint32_t v = 0; v < dist.size(); ++v)
+        if (dist[v] < kInf) heap.push({dist[v], v});
+}
+
+void run_dijkstra(const LinkGraph& g, double max_distance, std::vector<double>& dist) {
+    MinHeap heap;
+    push_seeds(dist, heap);
+    while (!heap.empty()) {
+        const HeapEntry top = heap.top();
+        heap.pop();
+        if (top.distance > dist[top.vertex] || top.distance > max_distance) continue;  // stale or too far
+        for (std::uint32_t i = g.offsets[top.vertex]; i < g.offsets[top.vertex + 1]; ++i) {
+            const double d = top.distance + g.lengths[i];
+            if (d < dist[g.targets[i]]) {
+                dist[g.targets[i]] = d;
+                heap.push({d, g.targets[i]});
+            }
+        }
+    }
+}
+
+// Distance at c from the known corners a, b of a triangle: unfold a virtual point
+// source s with |s-a| = da, |s-b| = db on the far side of edge ab; valid when the ray
+// s -> c crosses the edge and the result is causal (larger than da and db).
+double triangle_update(const Vec3& c, const Vec3& a, double da, const Vec3& b, double db) {
+    const Vec3 e = b - a;
+    const double len = glm::length(e);
+    if (len <= 0.0) return kInf;
+    const Vec3 u = e / len;
+    const double cx = glm::dot(c - a, u), cy = glm::length((c - a) - cx * u);
+    const double sx = (da * da - db * db + len * len) / (2.0 * len);
+    const double sy2 = da * da - sx * sx;
+    if (sy2 < 0.0 || cy <= 0.0) return kInf;
+    const double sy = -std::sqrt(sy2);
+    const double x = sx + (cx - sx) * (-sy) / (cy - sy);  // the ray meets the edge line here
+    if (x < 0.0 || x > len) return kInf;
+    const double d = std::hypot(cx - sx, cy - sy);
+    return d > std::max(da, db) ? d : kInf;
+}
+
+void relax(std::uint32_t v, double d, std::vector<double>& dist, MinHeap& heap) {
+    if (d < dist[v]) {
+        dist[v] = d;
+        heap.push({d, v});
+    }
+}
+
+void run_fast_marching(const std::vector<Vec3>& p, const VertexRings& rings, double max_distance,
+                       std::vector<double>& dist) {
+    std::vector<std::uint8_t> accepted(dist.size(), 0);
+    MinHeap heap;
+    push_seeds(dist, heap);
+    while (!heap.empty()) {
+        const HeapEntry top = heap.top();
+        heap.pop();
+        const std::uint32_t v = top.vertex;
+        if (accepted[v] || top.distance > dist[v] || top.distance > max_distance) continue;
+        accepted[v] = 1;
+        for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
+            const std::uint32_t a = rings.neighbours[i];
+            if (!accepted[a]) relax(a, dist[v] + glm::length(p[a] - p[v]), dist, heap);  // edge update
+            if (!rings.wedge[i]) continue;
+            // Triangle (v, a, b): update the one corner not yet accepted from the other two.
+            const std::uint32_t b = rings.neighbours[rings.next(v, i)];
+            if (!accepted[a] && accepted[b]) relax(a, triangle_update(p[a], p[v], dist[v], p[b], dist[b]), dist, heap);
+            if (!accepted[b] && accepted[a]) relax(b, triangle_update(p[b], p[v], dist[v], p[a], dist[a]), dist, heap);
+        }
+    }
+}
+
+// True when ring entry i of v is a boundary edge: no triangle on one of its sides.
+bool is_boundary_entry(const VertexRings& rings, std::uint32_t v, std::uint32_t i) {
+    const std::uint32_t prev = i == rings.begin(v) ? rings.end(v) - 1 : i - 1;
+    return !rings.wedge[i] || !rings.wedge[prev];
+}
+
+// True when v has exactly two boundary edges and they continue each other within
+// about 25 degrees. Corners and non-manifold boundary vertices are not smoothed:
+// averaging around a corner would pull the value towards the inside.
+bool is_straight_boundary(const std::vector<Vec3>& p, const VertexRings& rings, std::uint32_t v) {
+    Vec3 dir[2];
+    int count = 0;
+    for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
+        if (!is_boundary_entry(rings, v, i)) continue;
+        if (count == 2) return false;
+        dir[count++] = glm::normalize(p[rings.neighbours[i]] - p[v]);
+    }
+    return count == 2 && glm::dot(dir[0], dir[1]) < -0.9;
+}
+
+// The local smoothing kernel of sec. 6.1: Jacobi passes of
+//   g(v) <- 1/2 g(v) + 1/2 (sum_w g(w) / |vw|) / (sum_w 1 / |vw|)
+// over the 1-ring, skipping seeded vertices and unreached (+infinity) values. A vertex
+// on the mesh boundary averages over its two boundary edges only (a one-sided 1-ring
+// would shift its value by up to half an edge length); boundary corners keep theirs.
+void smooth_distances(const std::vector<Vec3>& p, const VertexRings& rings, const std::vector<double>& seeds,
+                      int iterations, std::vector<double>& dist) {
+    std::vector<double> next(dist.size());
+    for (int it = 0; it < iterations; ++it) {
+        for (std::uint32_t v = 0; v < dist.size(); ++v) {
+            next[v] = dist[v];
+            if (seeds[v] < kInf || dist[v] == kInf) continue;
+            double sum = 0.0, weight = 0.0;
+            const bool boundary = !rings.is_closed(v);
+            if (boundary && !is_straight_boundary(p, rings, v)) continue;
+            for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
+                if (boundary && !is_boundary_entry(rings, v, i)) continue;
+                const std::uint32_t w = rings.neighbours[i];
+                const double len = glm::length(p[w] - p[v]);
+                if (dist[w] == kInf || len <= 0.0) continue;
+                sum += dist[w] / len;
+                weight += 1.0 / len;
+            }
+            if (weight > 0.0) next[v] = 0.5 * dist[v] + 0.5 * sum / weight;
+        }
+        dist.swap(next);
+    }
+}
+
+}  // namespace
+
+std::vector<double> geodesic_distance_from_seeds(const std::vector<Vec3>& positions, const VertexRings& rings,
+                                                 const std::vector<double>& seeds, const GeodesicOptions& options) {
+    if (rings.vertex_count() != positions.size() || seeds.size() != positions.size())
+        throw InputError("geodesic distance: positions, rings and seeds disagree on the vertex count");
+    for (double s : seeds)
+        if (std::isnan(s) || s < 0.0 || s == -kInf)
+            throw InputError("geodesic distance: seed distances must be >= 0 or +infinity");
+    if (options.smoothing_iterations < 0)
+        throw InputError("geodesic distance: smoothing_iterations must be >= 0");
+    std::vector<double> dist = seeds;
+    if (options.method == GeodesicMethod::fast_marching) {
+        run_fast_marching(positions, rings, options.max_distance, dist);
+    } else {
+        const bool flips = options.method == GeodesicMethod::dijkstra_flip_links;
+        run_dijkstra(build_link_graph(positions, rings, flips), options.max_distance, dist);
+    }
+    // Values pushed but never settled beyond max_distance are left out.
+    for (double& d : dist)
+        if (d > options.max_distance) d = kInf;
+    smooth_distances(positions, rings, seeds, options.smoothing_iterations, dist);
+    return dist;
+}
+
+std::vector<double> geodesic_distance(const std::vector<Vec3>& positions, const VertexRings& rings,
+                                      const std::vector<std::uint32_t>& sources, const GeodesicOptions& options) {
+    std::vector<double> seeds(positions.size(), kInf);
+    for (std::uint32_t v : sources) {
+        if (v >= seeds.size())
+            throw InputError("geodesic distance: source vertex " + std::to_string(v) + " out of range (mesh has " +
+                             std::to_string(seeds.size()) + " vertices)");
+        seeds[v] = 0.0;
+    }
+    return geodesic_distance_from_seeds(positions, rings, seeds, options);
+}
+
+std::vector<double> geodesic_distance_to_region(const std::vector<Vec3>& positions, const VertexRings& rings,
+                                                const std::vector<std::uint8_t>& region,
+                                                const GeodesicOptions& options) {
+    if (region.size() != positions.size())
+        throw InputError("geodesic distance: the region mask has " + std::to_string(region.size()) +
+                         " entries, the mesh " + std::to_string(positions.size()) + " vertices");
+    // Every region vertex is a source; only its border vertices have neighbours outside,
+    // so the distances grow from the border.
+    std::vector<double> seeds(positions.size(), kInf);
+    for (std::size_t v = 0; v < region.size(); ++v)
+        if (region[v]) seeds[v] = 0.0;
+    return geodesic_distance_from_seeds(positions, rings, seeds, options);
+}
+
+std::vector<double> geodesic_distance_from_point(const std::vector<Vec3>& positions,
+                                                 const std::vector<Triangle>& triangles,
+                                                 const VertexRings& rings, const SurfacePoint& point,
+                                                 const GeodesicOptions& options) {
+    check_surface_point(point, triangles.size(), "geodesic source point");
+    const Vec3 x = surface_position(positions, triangles, point);
+    std::vector<double> seeds(positions.size(), kInf);
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = triangles[point.triangle][k];
+        if (v >= seeds.size()) throw InputError("geodesic source point: triangle refers to a missing vertex");
+        seeds[v] = glm::length(positions[v] - x);
+    }
+    return geodesic_distance_from_seeds(positions, rings, seeds, options);
+}
+
+}  // namespace vfsd

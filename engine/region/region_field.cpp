@@ -1,0 +1,123 @@
+#include "region/region_field.h"
+
+#include <cmath>
+#include <limits>
+
+#include "base/error.h"
+
+namespace vfsd {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Connected component id of every vertex (flood fill over the 1-rings).
+std::vector<std::uint32_t> component_ids(const VertexRings& rings, std::uint32_t& count) {
+    const auto n = static_cast<std::uint32_t>(rings.vertex_count());
+    std::vector<std::uint32_t> id(n, ~0u), stack;
+    count = 0;
+    for (std::uint32_t start = 0; start < n; ++start) {
+        if (id[start] != ~0u) continue;
+        id[start] = count;
+        stack.assign(1, start);
+        while (!stack.empty()) {
+            const std::uint32_t v = stack.back();
+            stack.pop_back();
+            for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i)
+                if (id[rings.neighbours[i]] == ~0u) {
+                    id[rings.neighbours[i]] = count;
+                    stack.push_back(rings.neighbours[i]);
+                }
+        }
+        ++count;
+    }
+    return id;
+}
+
+void check_masks(std::size_t n, const std::vector<std::uint8_t>& inner, const std::vector<std::uint8_t>& outer) {
+    if (inner.size() != n || outer.size() != n)
+        throw InputError("region field: the inner and outer masks must have one entry per vertex (" +
+                         std::to_string(n) + ")");
+    std::size_t both = 0, first = 0;
+    for (std::size_t v = 0; v < n; ++v)
+        if (inner[v] && outer[v] && both++ == 0) first = v;
+    if (both > 0)
+        throw InputError("region field: " + std::to_string(both) + " vertices (first: " + std::to_string(first) +
+                         ") are in both the inner and the outer region");
+}
+
+// Adds the per-component warnings of painted_region_field and sets s in components that
+// lack one of the regions: only inner -> 0, neither -> 1.
+void resolve_components(const VertexRings& rings, const std::vector<std::uint8_t>& inner,
+                        const std::vector<std::uint8_t>& outer, RegionField& field) {
+    std::uint32_t count = 0;
+    const std::vector<std::uint32_t> id = component_ids(rings, count);
+    std::vector<std::uint8_t> has(count, 0);  // bit 1: inner, bit 2: outer
+    for (std::size_t v = 0; v < id.size(); ++v) has[id[v]] |= (inner[v] ? 1 : 0) | (outer[v] ? 2 : 0);
+    std::size_t only_inner = 0, neither = 0;
+    for (std::size_t v = 0; v < id.size(); ++v) {
+        if (has[id[v]] == 1) field.s[v] = 0.0, ++only_inner;
+        if (has[id[v]] == 0) field.s[v] = 1.0, ++neither;
+    }
+    if (only_inner > 0)
+        field.warnings.push_back(std::to_string(only_inner) +
+                                 " vertices lie in parts of the mesh with an inner but no outer region: "
+                                 "they follow the inner deformation rigidly (s = 0)");
+    if (neither > 0)
+        field.warnings.push_back(std::to_string(neither) +
+                                 " vertices lie in parts of the mesh that reach neither region: "
+                                 "they are not deformed (s = 1)");
+}
+
+}  // namespace
+
+std::vector<double> level_field_from_distance(const std::vector<double>& g, double g_min, double g_max) {
+    if (!std::isfinite(g_min) || !std::isfinite(g_max) || g_min < 0.0 || !(g_min < g_max))
+        throw InputError("geodesic level field: thresholds must satisfy 0 <= g_min < g_max (got g_min = " +
+                         std::to_string(g_min) + ", g_max = " + std::to_string(g_max) + ")");
+    // Eq. (15) with 0 and 1 exchanged, so that s = 0 (full deformation) at the seed.
+    std::vector<double> s(g.size());
+    for (std::size_t v = 0; v < g.size(); ++v) {
+        if (g[v] <= g_min) s[v] = 0.0;
+        else if (g[v] >= g_max) s[v] = 1.0;
+        else s[v] = (g[v] - g_min) / (g_max - g_min);
+    }
+    return s;
+}
+
+std::vector<double> geodesic_level_field(const std::vector<Vec3>& positions, const VertexRings& rings,
+                                         std::uint32_t seed, double g_min, double g_max,
+                                         const GeodesicOptions& options) {
+    if (seed >= positions.size())
+        throw InputError("geodesic level field: seed vertex " + std::to_string(seed) + " out of range (mesh has " +
+                         std::to_string(positions.size()) + " vertices)");
+    level_field_from_distance({}, g_min, g_max);  // validate the thresholds before the work
+    return level_field_from_distance(geodesic_distance(positions, rings, {seed}, options), g_min, g_max);
+}
+
+RegionField painted_region_field(const std::vector<Vec3>& positions, const VertexRings& rings,
+                                 const std::vector<std::uint8_t>& inner, const std::vector<std::uint8_t>& outer,
+                                 const GeodesicOptions& options) {
+    check_masks(positions.size(), inner, outer);
+    RegionField field;
+    field.s.assign(positions.size(), 1.0);
+    bool any_inner = false;
+    for (std::uint8_t x : inner) any_inner = any_inner || x;
+    if (!any_inner) {
+        field.warnings.push_back("the inner region is empty: nothing is deformed (s = 1 everywhere)");
+        return field;
+    }
+    GeodesicOptions full = options;
+    full.max_distance = kInf;  // eq. (16) needs both distances everywhere
+    const std::vector<double> gi = geodesic_distance_to_region(positions, rings, inner, full);
+    const std::vector<double> go = geodesic_distance_to_region(positions, rings, outer, full);
+    // Eq. (16): s = g_o / (g_i + g_o) * 0 + g_i / (g_i + g_o) * 1.
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        if (inner[v]) field.s[v] = 0.0;
+        else if (outer[v]) field.s[v] = 1.0;
+        else if (gi[v] < kInf && go[v] < kInf) field.s[v] = gi[v] + go[v] > 0.0 ? gi[v] / (gi[v] + go[v]) : 0.5;
+    }
+    resolve_components(rings, inner, outer, field);
+    return field;
+}
+
+}  // namespace vfsd
