@@ -44,8 +44,8 @@ double TextCursor::to_double(std::string_view token) const {
     // The token lies inside the NUL-terminated file text, so strtod stops at its end.
     char* end = nullptr;
     const double value = std::strtod(token.data(), &end);
-    if (token.empty() || end != token.data() + token.size()) fail("expected a number, got '" + std::string(token) + "'");
-    if (!std::isfinite(value)) fail("coordinate '" + std::string(token) + "' is not a finite number");
+    if (token.empty() || end != token.data() + token.size()) fail("expected a number, got " + quoted(token));
+    if (!std::isfinite(value)) fail("coordinate " + quoted(token) + " is not a finite number");
     return value;
 }
 
@@ -54,7 +54,7 @@ long long TextCursor::to_integer(std::string_view token) const {
     const char* end = token.data() + token.size();
     const auto result = std::from_chars(token.data(), end, value);
     if (token.empty() || result.ec != std::errc() || result.ptr != end) {
-        fail("expected an integer, got '" + std::string(token) + "'");
+        fail("expected an integer, got " + quoted(token));
     }
     return value;
 }
@@ -82,6 +82,12 @@ void ByteCursor::need(std::size_t n) {
 }
 
 void ByteCursor::fail(const std::string& what) const { throw InputError(path_ + ": " + what); }
+
+std::string quoted(std::string_view token) {
+    std::string text(token.substr(0, 32));
+    for (char& c : text) c = (c >= 32 && c < 127) ? c : '?';
+    return "'" + text + (token.size() > 32 ? "...'" : "'");
+}
 
 void append_fan(std::vector<Triangle>& triangles, const std::vector<std::uint32_t>& corners) {
     for (std::size_t k = 1; k + 1 < corners.size(); ++k) triangles.push_back({corners[0], corners[k], corners[k + 1]});

@@ -82,6 +82,9 @@ void put_le(std::string& out, T value) {
     out.append(raw, sizeof(T));
 }
 
+// `token` in quotes for a message: at most 32 characters, non-printable ones as '?'.
+std::string quoted(std::string_view token);
+
 // Fan-triangulates the polygon `corners` (at least 3 vertices) into `triangles`.
 void append_fan(std::vector<Triangle>& triangles, const std::vector<std::uint32_t>& corners);
 

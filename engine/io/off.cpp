@@ -25,7 +25,7 @@ bool ends_with_off(std::string_view token) { return token.size() >= 3 && token.s
 std::pair<long long, long long> read_off_header(TextCursor& cursor) {
     std::vector<std::string_view> tokens;
     if (!next_data_line(cursor, tokens)) cursor.fail("empty file");
-    if (!ends_with_off(tokens[0])) cursor.fail("not an OFF file: expected 'OFF', got '" + std::string(tokens[0]) + "'");
+    if (!ends_with_off(tokens[0])) cursor.fail("not an OFF file: expected 'OFF', got " + quoted(tokens[0]));
     if (tokens.size() > 1 && tokens[1] == "BINARY") cursor.fail("binary OFF is not supported");
     tokens.erase(tokens.begin());
     if (tokens.empty() && !next_data_line(cursor, tokens)) cursor.fail("missing the vertex and face counts");
@@ -39,7 +39,7 @@ std::pair<long long, long long> read_off_header(TextCursor& cursor) {
 void read_off_face(TextCursor& cursor, const std::vector<std::string_view>& tokens, TriangleMesh& mesh,
                    std::vector<std::uint32_t>& corners) {
     const long long n = cursor.to_integer(tokens[0]);
-    if (n < 3) cursor.fail("face needs at least three vertices, has " + std::string(tokens[0]));
+    if (n < 3) cursor.fail("face needs at least three vertices, has " + quoted(tokens[0]));
     if (static_cast<std::size_t>(n) >= tokens.size()) {
         cursor.fail("face declares " + std::to_string(n) + " vertices but lists " + std::to_string(tokens.size() - 1));
     }

@@ -58,7 +58,7 @@ std::size_t ply_size(PlyType t) {
 
 PlyType parse_type(const TextCursor& cursor, std::string_view name) {
     const std::optional<PlyType> t = ply_type(name);
-    if (!t) cursor.fail("unknown property type '" + std::string(name) + "'");
+    if (!t) cursor.fail("unknown property type " + quoted(name));
     return *t;
 }
 
@@ -69,7 +69,7 @@ void parse_header_line(TextCursor& cursor, const std::vector<std::string_view>& 
         if (tokens[1] == "ascii") header.encoding = PlyEncoding::Ascii;
         else if (tokens[1] == "binary_little_endian") header.encoding = PlyEncoding::BinaryLittleEndian;
         else if (tokens[1] == "binary_big_endian") header.encoding = PlyEncoding::BinaryBigEndian;
-        else cursor.fail("unknown PLY format '" + std::string(tokens[1]) + "'");
+        else cursor.fail("unknown PLY format " + quoted(tokens[1]));
     } else if (key == "element") {
         if (tokens.size() != 3) cursor.fail("expected 'element NAME COUNT'");
         const long long count = cursor.to_integer(tokens[2]);
@@ -87,7 +87,7 @@ void parse_header_line(TextCursor& cursor, const std::vector<std::string_view>& 
         }
         header.elements.back().properties.push_back(p);
     } else if (key != "comment" && key != "obj_info") {
-        cursor.fail("unexpected header line '" + std::string(key) + "'");
+        cursor.fail("unexpected header line " + quoted(key));
     }
 }
 

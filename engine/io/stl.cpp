@@ -58,7 +58,7 @@ void read_ascii_statement(TextCursor& cursor, const std::vector<std::string_view
         mesh.triangles.push_back({n - 3, n - 2, n - 1});
         corners = -1;
     } else if (key != "facet" && key != "endfacet" && key != "endsolid" && key != "solid") {
-        cursor.fail("unexpected '" + std::string(key) + "' in ascii STL");
+        cursor.fail("unexpected " + quoted(key) + " in ascii STL");
     }
 }
 
