@@ -1,0 +1,109 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "base/error.h"
+#include "mesh/builtin_meshes.h"
+#include "mesh/geometry.h"
+#include "mesh/validation.h"
+#include "mesh/vertex_rings.h"
+
+using namespace vfsd;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Everything a clean, closed, outward-oriented mesh must satisfy.
+void require_clean_closed(const TriangleMesh& mesh) {
+    const ValidationReport r = validate_mesh(mesh);
+    INFO("reasons: " << r.reasons.size() << ", warnings: " << r.warnings.size());
+    CHECK(r.is_closed);
+    CHECK(r.is_manifold);
+    CHECK(r.reasons.empty());
+    CHECK(r.warnings.empty());
+    CHECK(r.boundary_edges.empty());
+    CHECK(r.degenerate_triangles.empty());
+    CHECK(signed_volume(mesh.positions, mesh.triangles) > 0.0);
+}
+
+// 1 for an equilateral triangle, 0 for a degenerate one.
+double shape_quality(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+    return 4.0 * std::sqrt(3.0) * area / (glm::dot(b - a, b - a) + glm::dot(c - b, c - b) + glm::dot(a - c, a - c));
+}
+
+}  // namespace
+
+TEST_CASE("built-in meshes: default counts near the paper's, exact volumes where the shape is exact", "[mesh][builtin]") {
+    struct Expect {
+        const char* name;
+        std::size_t paper_vertices;
+        double volume;
+        double volume_tolerance;  // relative
+    };
+    // The cylinder and sphere are inscribed polyhedra: slightly smaller than the solid.
+    const Expect expected[] = {{"box", 2462, 1.2, 1e-12},
+                               {"bar", 9730, 9.0, 1e-12},
+                               {"cylinder", 21302, kPi * 0.25 * 5.0, 1e-3},
+                               {"sphere", 10242, 4.0 / 3.0 * kPi, 1e-3}};
+    for (const Expect& e : expected) {
+        SECTION(e.name) {
+            const TriangleMesh mesh = make_builtin_mesh(e.name);
+            CHECK(std::abs(double(mesh.vertex_count()) - double(e.paper_vertices)) <= 0.02 * e.paper_vertices);
+            require_clean_closed(mesh);
+            const double volume = signed_volume(mesh.positions, mesh.triangles);
+            CHECK(std::abs(volume - e.volume) <= e.volume_tolerance * e.volume);
+            CHECK(volume <= e.volume * (1.0 + 1e-12));
+        }
+    }
+}
+
+TEST_CASE("built-in meshes have outward normals and well-shaped triangles", "[mesh][builtin]") {
+    for (const std::string& name : builtin_mesh_names()) {
+        const TriangleMesh mesh = make_builtin_mesh(name);
+        INFO(name);
+        // All four are convex and centred at the origin: outward means along the position.
+        std::vector<Vec3> normals;
+        vertex_normals(mesh.positions, build_vertex_rings(mesh), normals);
+        std::size_t inward = 0;
+        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) inward += glm::dot(normals[v], mesh.positions[v]) <= 0.0;
+        CHECK(inward == 0);
+        double worst = 1.0;
+        for (const Triangle& t : mesh.triangles)
+            worst = std::min(worst, shape_quality(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]));
+        CHECK(worst > 0.55);
+    }
+}
+
+TEST_CASE("built-in meshes: dimensions as documented", "[mesh][builtin]") {
+    auto extent = [](const char* name) { return bounding_box(make_builtin_mesh(name).positions).extent(); };
+    CHECK(extent("box").x == Approx(1.0));
+    CHECK(extent("box").z == Approx(1.2));
+    CHECK(extent("bar").y == Approx(1.0));
+    CHECK(extent("bar").z == Approx(9.0));
+    CHECK(extent("cylinder").x == Approx(1.0));
+    CHECK(extent("cylinder").z == Approx(5.0));
+    CHECK(extent("sphere").y == Approx(2.0));
+    const BoundingBox bar = bounding_box(make_builtin_mesh("bar").positions);
+    CHECK(glm::length(bar.centre()) < 1e-12);
+}
+
+TEST_CASE("built-in meshes at other resolutions stay closed and manifold", "[mesh][builtin]") {
+    const std::pair<const char*, int> cases[] = {{"box", 1}, {"box", 4}, {"bar", 2}, {"cylinder", 3},
+                                                 {"cylinder", 7}, {"cylinder", 24}, {"sphere", 1}, {"sphere", 3}};
+    for (const auto& [name, resolution] : cases) {
+        INFO(name << ":" << resolution);
+        require_clean_closed(make_builtin_mesh(name, resolution));
+    }
+    CHECK(make_builtin_mesh("box", 10).vertex_count() < make_builtin_mesh("box", 11).vertex_count());
+    CHECK(make_builtin_mesh("sphere", 2).vertex_count() == 162);
+}
+
+TEST_CASE("built-in meshes reject unknown names and resolutions out of range", "[mesh][builtin]") {
+    CHECK_THROWS_AS(make_builtin_mesh("torus"), InputError);
+    CHECK_THROWS_AS(make_builtin_mesh("box", -1), InputError);
+    CHECK_THROWS_AS(make_builtin_mesh("sphere", 40), InputError);
+    CHECK_THROWS_AS(make_builtin_mesh("cylinder", 2), InputError);
+    CHECK(builtin_mesh_names().size() == 4);
+}
