@@ -217,9 +217,13 @@ TEST_CASE("geodesic accuracy and cost figures", "[.][region-bench]") {
                          : c.kind == 1 ? sphere_exact(c.mesh, c.source, 1.0) : tube_exact(c.mesh, c.source, 1.0);
         for (GeodesicMethod method : kMethods)
             for (int smoothing : {0, 2, 5}) {
-                const auto t0 = std::chrono::steady_clock::now();
-                const auto g = geodesic_distance(c.mesh.positions, rings, {c.source}, with(method, smoothing));
-                const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+                std::vector<double> g;
+                double ms = std::numeric_limits<double>::infinity();  // the best of 5 runs
+                for (int run = 0; run < 5; ++run) {
+                    const auto t0 = std::chrono::steady_clock::now();
+                    g = geodesic_distance(c.mesh.positions, rings, {c.source}, with(method, smoothing));
+                    ms = std::min(ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+                }
                 const ErrorStats e = compare(g, exact, 0.25);
                 std::printf("%-24s %-14s smooth %d  %6zu v  mean %.4f  max %.4f  %7.2f ms\n", c.name,
                             method_name(method), smoothing, g.size(), e.mean_relative, e.max_relative, ms);

@@ -36,7 +36,10 @@ namespace vfsd {
 enum class GeodesicMethod { dijkstra, dijkstra_flip_links, fast_marching };
 
 struct GeodesicOptions {
-    GeodesicMethod method = GeodesicMethod::dijkstra;
+    // Fast marching by default: same cost as Dijkstra, an order of magnitude more
+    // accurate (Dijkstra's distances run up to 41% long on a regular grid, which turns
+    // a round brush or level set into a diamond). dijkstra reproduces the paper.
+    GeodesicMethod method = GeodesicMethod::fast_marching;
     // Jacobi passes of the local smoothing kernel (each pass averages a vertex with its
     // 1-ring, so k passes have k-ring support). Source vertices are never smoothed.
     int smoothing_iterations = 2;
