@@ -52,15 +52,27 @@ void Deformation::step(double h) {
     next_ = positions_;
     if (region_.sphere_tool) {
         deformation_step(motion, *region_.sphere_tool, next_);
+    } else if (options_.gradients_at_midpoint) {
+        if (!have_gradients_) estimate_surface_gradients(positions_);
+        predict_midpoints(motion.start, h, region_.s, gradients_, positions_, next_);
+        estimate_surface_gradients(next_);
+        next_ = positions_;
+        deformation_step(motion, region_.s, gradients_, next_);
     } else {
-        estimate_normals(positions_, rings_, normals_);
-        estimate_gradients(positions_, normals_, region_.s, rings_, gradients_);
-        smooth_gradients(normals_, rings_, options_.smoothing_steps, options_.smoothing_weight, gradients_, scratch_);
+        estimate_surface_gradients(positions_);
         deformation_step(motion, region_.s, gradients_, next_);
     }
     check_finite(next_);
     positions_.swap(next_);
     step_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+}
+
+// Normal, gradient (eq. 6) and smoothing passes on the positions `at`.
+void Deformation::estimate_surface_gradients(const std::vector<Vec3>& at) {
+    estimate_normals(at, rings_, normals_);
+    estimate_gradients(at, normals_, region_.s, rings_, gradients_);
+    smooth_gradients(normals_, region_.s, rings_, options_.smoothing_steps, options_.smoothing_weight, gradients_, scratch_);
+    have_gradients_ = true;
 }
 
 void Deformation::check_finite(const std::vector<Vec3>& candidate) const {

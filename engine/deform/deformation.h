@@ -19,6 +19,9 @@ struct DeformationOptions {
     int steps = 250;               // RK4 steps from t = 0 to t = 1 (sec. 7.1: 200–300)
     int smoothing_steps = 10;      // Laplacian steps on ∇r per integration step
     double smoothing_weight = 0.5; // how far each step moves ∇r toward its ring mean
+    // Estimate normals and ∇r at the predicted middle of each step (second order)
+    // rather than at its start as sec. 5 does (first order in time).
+    bool gradients_at_midpoint = true;
 };
 
 // Which part of the shape moves: s per vertex (0 full, 1 none), or the sphere tool.
@@ -49,6 +52,7 @@ public:
 private:
     void step(double h);
     void check_finite(const std::vector<Vec3>& candidate) const;
+    void estimate_surface_gradients(const std::vector<Vec3>& at);
 
     std::vector<Vec3> positions_;
     VertexRings rings_;
@@ -58,6 +62,7 @@ private:
     double time_ = 0.0;
     // Per-step work arrays, sized once.
     std::vector<Vec3> normals_, gradients_, scratch_, next_;
+    bool have_gradients_ = false;  // gradients_ hold the last step's ∇r
     std::vector<double> step_ms_;
 };
 

@@ -51,23 +51,34 @@ void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Ve
     }
 }
 
-void smooth_gradients(const std::vector<Vec3>& normals, const VertexRings& rings, int steps, double weight,
-                      std::vector<Vec3>& gradients, std::vector<Vec3>& scratch) {
+void smooth_gradients(const std::vector<Vec3>& normals, const std::vector<double>& s, const VertexRings& rings,
+                      int steps, double weight, std::vector<Vec3>& gradients, std::vector<Vec3>& scratch) {
     scratch.resize(gradients.size());
     for (int step = 0; step < steps; ++step) {
         for (std::uint32_t v = 0; v < rings.vertex_count(); ++v) {
-            const std::uint32_t valence = rings.valence(v);
-            if (valence == 0) {
-                scratch[v] = gradients[v];
-                continue;
+            // Average over the neighbours inside the blend region only: outside it s
+            // is constant, ∇r there carries no information, and mixing it in would
+            // shrink ∇r along the region's borders.
+            Vec3 sum(0.0);
+            int count = 0;
+            for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
+                const std::uint32_t y = rings.neighbours[i];
+                if (s[y] > 0.0 && s[y] < 1.0) sum += gradients[y], ++count;
             }
-            Vec3 mean(0.0);
-            for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) mean += gradients[rings.neighbours[i]];
-            mean /= static_cast<double>(valence);
-            const Vec3 g = gradients[v] + weight * (mean - gradients[v]);
+            const Vec3 g = count > 0 ? gradients[v] + weight * (sum / double(count) - gradients[v]) : gradients[v];
             scratch[v] = g - glm::dot(g, normals[v]) * normals[v];
         }
         gradients.swap(scratch);
+    }
+}
+
+void predict_midpoints(const MotionSample& start, double h, const std::vector<double>& s,
+                       const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions,
+                       std::vector<Vec3>& midpoints) {
+    midpoints.resize(positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
+        midpoints[v] = positions[v] + 0.5 * h * deformation_velocity(start, positions[v], bernstein_blend(s[v]), grad_b);
     }
 }
 

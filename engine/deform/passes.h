@@ -24,10 +24,19 @@ void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Ve
                         const std::vector<double>& s, const VertexRings& rings, std::vector<Vec3>& gradients);
 
 // Smoothing pass: `steps` Laplacian steps moving each gradient by `weight` toward
-// the mean gradient of its 1-ring, kept tangent to the surface (normal removed).
+// the mean gradient of its 1-ring neighbours with 0 < s < 1, kept tangent to the surface (normal removed).
 // `scratch` is a work array (resized once).
-void smooth_gradients(const std::vector<Vec3>& normals, const VertexRings& rings, int steps, double weight,
-                      std::vector<Vec3>& gradients, std::vector<Vec3>& scratch);
+void smooth_gradients(const std::vector<Vec3>& normals, const std::vector<double>& s, const VertexRings& rings,
+                      int steps, double weight, std::vector<Vec3>& gradients, std::vector<Vec3>& scratch);
+
+// Midpoint predictor: where each vertex will be half-way through the step, by one
+// Euler half step along the field with the previous step's gradients. The normal,
+// gradient and smoothing passes then run on these positions, so ∇r is taken at
+// the middle of the step instead of its start: second order in time instead of
+// first, and integrating back retraces the way forward (see docs/method.md).
+void predict_midpoints(const MotionSample& start, double h, const std::vector<double>& s,
+                       const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions,
+                       std::vector<Vec3>& midpoints);
 
 // The motion at the three RK4 times of one step from t to t + h.
 struct StepMotion {

@@ -1,0 +1,92 @@
+#include "scene/prepared_scene.h"
+
+#include <algorithm>
+#include <string>
+
+#include "base/error.h"
+#include "field/vector_field.h"
+#include "region/region_field.h"
+
+namespace vfsd {
+namespace {
+
+// The sphere tool's u = (r − r_i)/(r_o − r_i), clamped: its s at the start.
+std::vector<double> sphere_tool_field(const SphereTool& tool, const std::vector<Vec3>& positions) {
+    std::vector<double> s(positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v)
+        s[v] = std::clamp((glm::length(positions[v] - tool.centre) - tool.r_inner) / (tool.r_outer - tool.r_inner), 0.0, 1.0);
+    return s;
+}
+
+void warn_about_region(const Region& region, std::vector<std::string>& warnings) {
+    const bool any_moves = std::any_of(region.s.begin(), region.s.end(), [](double s) { return s < 1.0; });
+    const bool any_inner = std::any_of(region.s.begin(), region.s.end(), [](double s) { return s <= 0.0; });
+    if (!any_moves) warnings.push_back("region: s is 1 everywhere, so nothing moves");
+    else if (!any_inner) warnings.push_back("region: no vertex has s = 0, so no part follows the curve fully");
+}
+
+void warn_about_motion(const PreparedScene& p, std::vector<std::string>& warnings) {
+    const auto& positions = p.file.mesh.positions;
+    if (p.motion.is_fixed_rotation() || positions.empty()) return;
+    if (p.motion.curve().polygon_length() == 0.0) {
+        warnings.push_back("curve: all control points coincide, so the inner region does not move");
+        return;
+    }
+    const Vec3 start = p.motion.curve().at(0.0).position;
+    const std::uint32_t nearest = nearest_vertex(positions, start);
+    if (p.region.s[nearest] > 0.0)
+        warnings.push_back("curve: c(0) does not lie in the inner region (s = " + std::to_string(p.region.s[nearest]) +
+                           " at the nearest vertex); sec. 3 expects it there");
+}
+
+}  // namespace
+
+Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, const VertexRings& rings,
+                    std::vector<std::string>& warnings) {
+    Region region;
+    switch (spec.kind) {
+        case RegionSpec::Kind::painted: {
+            RegionField field = painted_region_field(positions, rings, select_vertices(positions, spec.inner),
+                                                     select_vertices(positions, spec.outer), spec.geodesic);
+            warnings.insert(warnings.end(), field.warnings.begin(), field.warnings.end());
+            region.s = std::move(field.s);
+            break;
+        }
+        case RegionSpec::Kind::geodesic:
+            region.s = geodesic_level_field(positions, rings, nearest_vertex(positions, spec.seed), spec.g_min,
+                                            spec.g_max, spec.geodesic);
+            break;
+        case RegionSpec::Kind::implicit:
+            region.sphere_tool = spec.sphere;
+            region.s = sphere_tool_field(spec.sphere, positions);
+            break;
+        case RegionSpec::Kind::field:
+            if (spec.s.size() != positions.size())
+                throw InputError("region.s: " + std::to_string(spec.s.size()) + " values for a mesh of " +
+                                 std::to_string(positions.size()) + " vertices");
+            region.s = spec.s;
+            break;
+    }
+    warn_about_region(region, warnings);
+    return region;
+}
+
+Deformation PreparedScene::start_deformation() const {
+    return Deformation(file.mesh.positions, rings, region, motion, scene.options);
+}
+
+PreparedScene prepare_scene(const Scene& scene) { return prepare_scene(scene, load_mesh_file(scene.mesh)); }
+
+PreparedScene prepare_scene(const Scene& scene, MeshFile file) {
+    PreparedScene p;
+    p.scene = scene;
+    p.file = std::move(file);
+    if (p.file.mesh.vertex_count() == 0) throw InputError(scene.mesh + ": the mesh has no vertices");
+    p.rings = build_vertex_rings(p.file.mesh);
+    p.region = build_region(scene.region, p.file.mesh.positions, p.rings, p.warnings);
+    p.motion = scene_motion(scene);
+    warn_about_motion(p, p.warnings);
+    return p;
+}
+
+}  // namespace vfsd

@@ -1,0 +1,65 @@
+#pragma once
+// Scene files: one JSON document says which mesh, which region, which curve (or
+// handle), which inner motion and twist, and how many steps. The CLI, the editors
+// and the tests all read the same format; docs/scene-format.md describes it.
+//
+// { "mesh": "path relative to the scene file, or builtin:NAME[:RESOLUTION]",
+//   "region": {"kind": "painted", "inner": [SEL...], "outer": [SEL...]}
+//           | {"kind": "geodesic", "seed": [x,y,z], "g_min": a, "g_max": b}
+//           | {"kind": "implicit", "center": [x,y,z], "r_inner": a, "r_outer": b}
+//           | {"kind": "field", "s": [one value per vertex]},
+//   "curve": {"bezier": [[x,y,z], ...]}
+//          | {"handle": {"from": {"position": P, "normal": M, "binormal": W}, "to": {...}}},
+//   "inner_motion": "rotation" | "translation",
+//   "twist_degrees": [a0, a1],
+//   "steps": 250, "smoothing_steps": 10, "target_time": 1.0 }
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "curve/handle.h"
+#include "deform/deformation.h"
+#include "region/geodesic.h"
+#include "region/selectors.h"
+
+namespace vfsd {
+
+struct RegionSpec {
+    enum class Kind { painted, geodesic, implicit, field };
+    Kind kind = Kind::painted;
+    std::vector<Selector> inner, outer;  // painted (eq. 16)
+    Vec3 seed{0.0};                      // geodesic (eq. 15): nearest vertex to this point
+    double g_min = 0.0, g_max = 0.0;
+    GeodesicOptions geodesic;            // painted and geodesic
+    SphereTool sphere;                   // implicit tool of [23]
+    std::vector<double> s;               // field: given per vertex
+};
+
+struct CurveSpec {
+    bool is_handle = false;
+    std::vector<Vec3> bezier;  // 3k+1 control points
+    HandleFrame from, to;      // handle mode (sec. 6.2)
+};
+
+struct Scene {
+    std::string mesh;  // a path (resolved against the scene's folder) or builtin:NAME
+    RegionSpec region;
+    CurveSpec curve;
+    InnerMotionMode inner_motion = InnerMotionMode::Rotation;
+    double twist_degrees[2] = {0.0, 0.0};
+    DeformationOptions options;
+    double target_time = 1.0;
+};
+
+// Throws InputError naming the offending field ("scene.json: region.g_max: ...").
+Scene parse_scene(const nlohmann::json& json, const std::string& base_dir, const std::string& name = "scene");
+Scene load_scene(const std::string& path);
+// The scene as JSON, with the mesh path as stored (parse_scene(to_json(s)) == s).
+nlohmann::json scene_to_json(const Scene& scene);
+
+// The inner motion the scene's curve (or handle), mode and twist describe.
+InnerMotion scene_motion(const Scene& scene);
+
+}  // namespace vfsd

@@ -1,0 +1,185 @@
+// The promises of the method (sec. 3–4, 6.2): the outer region stays, the inner
+// region moves rigidly along the curve, twists by α(1) − α(0), handles land on
+// their target pose, and integrating back undoes the deformation.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "base/rigid_fit.h"
+#include "curve/handle.h"
+#include "deform/deformation.h"
+#include "deform/quality.h"
+#include "mesh/builtin_meshes.h"
+#include "mesh/geometry.h"
+
+using namespace vfsd;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Built-in box (1 x 1 x 1.2, z in [-0.6, 0.6]); s = 0 above z = 0.3, 1 below
+// z = -0.5, linear in between.
+struct BoxScene {
+    TriangleMesh mesh = make_builtin_mesh("box", 10);
+    std::vector<double> s;
+    BoxScene() {
+        for (const Vec3& p : mesh.positions) s.push_back(std::clamp((0.3 - p.z) / 0.8, 0.0, 1.0));
+    }
+    Deformation deformation(const InnerMotion& motion, int steps = 100) const {
+        DeformationOptions options;
+        options.steps = steps;
+        return Deformation(mesh.positions, build_vertex_rings(mesh), Region{s, {}}, motion, options);
+    }
+    std::vector<Vec3> inner(const std::vector<Vec3>& x) const {
+        std::vector<Vec3> out;
+        for (std::size_t v = 0; v < x.size(); ++v)
+            if (s[v] == 0.0) out.push_back(x[v]);
+        return out;
+    }
+};
+
+BezierCurve bend_curve() { return BezierCurve({{0, 0, 0.6}, {0, 0, 1.0}, {0.3, 0, 1.4}, {0.8, 0.1, 1.6}}); }
+
+// Independent rotation-minimising frame: double reflection on a fine polyline.
+Vec3 double_reflection(const BezierCurve& c, Vec3 r, int n) {
+    for (int i = 0; i < n; ++i) {
+        const CurvePoint a = c.at(double(i) / n), b = c.at(double(i + 1) / n);
+        const Vec3 v1 = b.position - a.position, t0 = glm::normalize(a.d1), t1 = glm::normalize(b.d1);
+        const double c1 = glm::dot(v1, v1);
+        r -= 2.0 / c1 * glm::dot(v1, r) * v1;
+        const Vec3 v2 = t1 - (t0 - 2.0 / c1 * glm::dot(v1, t0) * v1);
+        if (glm::dot(v2, v2) > 0) r -= 2.0 / glm::dot(v2, v2) * glm::dot(v2, r) * v2;
+    }
+    return r;
+}
+
+glm::dmat3 axis_angle_matrix(Vec3 axis, double angle) {
+    axis = glm::normalize(axis);
+    const double c = std::cos(angle), s = std::sin(angle);
+    const glm::dmat3 k(Vec3(0, axis.z, -axis.y), Vec3(-axis.z, 0, axis.x), Vec3(axis.y, -axis.x, 0));
+    return glm::dmat3(1.0) + s * k + (1 - c) * k * k;
+}
+
+double angle_between(const Vec3& a, const Vec3& b) {
+    return std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0));
+}
+
+}  // namespace
+
+TEST_CASE("outer vertices stay exactly, inner vertices move rigidly", "[deform]") {
+    const BoxScene scene;
+    for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation}) {
+        Deformation d = scene.deformation(InnerMotion::along_curve(bend_curve(), mode, 0.0, 0.5));
+        d.advance(1.0);
+        const DeformationQuality q = measure_quality(scene.mesh.positions, d.positions(), scene.mesh.triangles, scene.s);
+        REQUIRE(q.outer_vertices > 0);
+        REQUIRE(q.inner_vertices > 0);
+        CHECK(q.outer_max_displacement == 0.0);
+        CHECK(q.inner_rigid_residual < 1e-5);
+        CHECK(q.nonfinite_vertices == 0);
+    }
+}
+
+TEST_CASE("translation mode moves the inner region by c(1) - c(0) without turning it", "[deform]") {
+    const BoxScene scene;
+    Deformation d = scene.deformation(InnerMotion::along_curve(bend_curve(), InnerMotionMode::Translation, 0.0, 0.0));
+    d.advance(1.0);
+    const RigidFit fit = fit_rigid(scene.inner(scene.mesh.positions), scene.inner(d.positions()));
+    const Vec3 expected = bend_curve().at(1.0).position - bend_curve().at(0.0).position;
+    const double diag = bounding_box(scene.mesh.positions).diagonal();
+    CHECK(rotation_angle(fit.rotation) < 1e-6);
+    CHECK(glm::length(fit.apply(Vec3(0, 0, 0.6)) - (Vec3(0, 0, 0.6) + expected)) < 1e-6 * diag);
+}
+
+TEST_CASE("rotation mode follows the rotation-minimising frame composed with the twist", "[deform]") {
+    const BoxScene scene;
+    const double twist = 0.7;
+    const BezierCurve curve = bend_curve();
+    Deformation d = scene.deformation(InnerMotion::along_curve(curve, InnerMotionMode::Rotation, 0.2, 0.2 + twist), 250);
+    d.advance(1.0);
+    const RigidFit fit = fit_rigid(scene.inner(scene.mesh.positions), scene.inner(d.positions()));
+    const Vec3 t0 = glm::normalize(curve.at(0.0).d1), t1 = glm::normalize(curve.at(1.0).d1);
+    const Vec3 u0(1, 0, 0);
+    const glm::dmat3 twist_about_end = axis_angle_matrix(t1, twist);
+    const Vec3 expected_u = twist_about_end * double_reflection(curve, u0, 20000);
+    CHECK(angle_between(fit.rotation * t0, t1) < 1e-4);
+    CHECK(angle_between(fit.rotation * u0, expected_u) < 1e-4);
+    CHECK(glm::length(fit.apply(curve.at(0).position) - curve.at(1).position) < 1e-6);
+}
+
+TEST_CASE("twisting the box realises the requested angle", "[deform]") {
+    const BoxScene scene;
+    const BezierCurve line({{0, 0, 0.6}, {0, 0, 0.7}, {0, 0, 0.8}, {0, 0, 0.9}});
+    for (double degrees : {90.0, 180.0, 360.0}) {
+        Deformation d = scene.deformation(InnerMotion::along_curve(line, InnerMotionMode::Rotation, 0.0, degrees * kPi / 180.0), 200);
+        // Sum the signed turn of the inner region about the axis over small intervals.
+        double turned = 0.0;
+        std::vector<Vec3> previous = scene.inner(d.positions());
+        for (int k = 1; k <= 20; ++k) {
+            d.advance(k / 20.0);
+            const std::vector<Vec3> current = scene.inner(d.positions());
+            const RigidFit fit = fit_rigid(previous, current);
+            const glm::dmat3& r = fit.rotation;
+            const double sign = (r[0][1] - r[1][0]) >= 0.0 ? 1.0 : -1.0;  // z component of the rotation axis
+            turned += sign * rotation_angle(r);
+            previous = current;
+        }
+        CHECK(std::abs(turned * 180.0 / kPi - degrees) < 0.1);
+    }
+}
+
+TEST_CASE("handle mode carries (h, m, w) onto the target handle", "[deform][handle]") {
+    // A small cloud in the inner region: its motion does not depend on the rest.
+    TriangleMesh tet;
+    const Vec3 h(0.1, -0.2, 0.3);
+    tet.positions = {h + Vec3(0.05, 0, 0), h + Vec3(0, 0.05, 0), h + Vec3(0, 0, 0.05), h - Vec3(0.03)};
+    tet.triangles = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    const HandleFrame from{h, Vec3(0, 0, 1), Vec3(1, 0, 0)};
+    const double diag = 1.0;  // the moves span about a unit box
+    for (int trial = 0; trial < 50; ++trial) {
+        const Vec3 axis = glm::normalize(Vec3(uni(rng), uni(rng), uni(rng)));
+        const glm::dmat3 r = axis_angle_matrix(axis, 1.5 * uni(rng));
+        const HandleFrame to{h + 0.5 * Vec3(uni(rng), uni(rng), uni(rng)), r * from.normal, r * from.binormal};
+        DeformationOptions options;
+        Deformation d(tet.positions, build_vertex_rings(tet), Region{std::vector<double>(4, 0.0), {}},
+                      handle_motion(from, to), options);
+        d.advance(1.0);
+        const RigidFit fit = fit_rigid(tet.positions, d.positions());
+        CHECK(glm::length(fit.apply(from.position) - to.position) < 1e-3 * diag);
+        CHECK(angle_between(fit.rotation * from.normal, to.normal) * 180.0 / kPi < 0.5);
+        CHECK(angle_between(fit.rotation * from.binormal, to.binormal) * 180.0 / kPi < 0.5);
+    }
+}
+
+TEST_CASE("integrating forward to t = 1 and back to t = 0 restores the mesh", "[deform]") {
+    const BoxScene scene;
+    Deformation d = scene.deformation(InnerMotion::along_curve(bend_curve(), InnerMotionMode::Rotation, 0.0, 0.5), 250);
+    d.advance(1.0);
+    CHECK(d.time() == 1.0);
+    d.advance(0.0);
+    CHECK(d.time() == 0.0);
+    double worst = 0.0;
+    for (std::size_t v = 0; v < scene.mesh.positions.size(); ++v)
+        worst = std::max(worst, glm::length(d.positions()[v] - scene.mesh.positions[v]));
+    const double diag = bounding_box(scene.mesh.positions).diagonal();
+    INFO("largest deviation / diagonal = " << worst / diag);
+    CHECK(worst < 1e-4 * diag);
+}
+
+TEST_CASE("the rigid fit recovers a known motion", "[deform][math]") {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    std::vector<Vec3> a, b;
+    const glm::dmat3 r = axis_angle_matrix(Vec3(1, 2, 3), 2.5);
+    for (int i = 0; i < 30; ++i) {
+        a.push_back(Vec3(uni(rng), uni(rng), uni(rng)));
+        b.push_back(r * a.back() + Vec3(0.3, -1, 2));
+    }
+    const RigidFit fit = fit_rigid(a, b);
+    CHECK(fit.rms_residual < 1e-12);
+    CHECK(std::abs(rotation_angle(fit.rotation) - 2.5) < 1e-12);
+}
