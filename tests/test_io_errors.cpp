@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <limits>
+#include <random>
 
 #include "base/error.h"
 #include "io/mesh_file.h"
@@ -11,6 +12,7 @@
 
 using namespace vfsd;
 using vfsd::test::append_value;
+using vfsd::test::read_bytes;
 using vfsd::test::ScratchDir;
 using vfsd::test::write_bytes;
 
@@ -132,4 +134,33 @@ TEST_CASE("unknown extensions and missing files", "[io][errors]") {
     CHECK_THROWS_AS(read_mesh_file(dir.file("missing.obj")), IoError);
     CHECK_THROWS_AS(load_mesh("builtin:box:x"), InputError);
     CHECK_THROWS_AS(load_mesh("builtin:box:-1"), InputError);
+}
+
+TEST_CASE("corrupted files of every format are read or refused with InputError, never crash", "[io][errors]") {
+    ScratchDir dir;
+    const TriangleMesh grid = test::wavy_grid(3);
+    std::mt19937 random(12345);  // fixed seed: the same corruptions every run
+    for (const char* ext : {"obj", "off", "ply", "glb", "stl"}) {
+        const std::string clean = dir.file(std::string("clean.") + ext), path = dir.file(std::string("bad.") + ext);
+        if (std::string(ext) == "stl") write_bytes(clean, test::binary_stl(grid));
+        else write_mesh_file(clean, grid);
+        const std::string bytes = read_bytes(clean);
+        int refused = 0;
+        for (int trial = 0; trial < 300; ++trial) {
+            std::string corrupt = bytes;
+            if (trial % 3 == 0) corrupt.resize(random() % corrupt.size());  // truncate
+            const int flips = 1 + static_cast<int>(random() % 4);
+            for (int k = 0; k < flips && !corrupt.empty(); ++k) corrupt[random() % corrupt.size()] = static_cast<char>(random());
+            write_bytes(path, corrupt);
+            try {
+                const MeshFile file = read_mesh_file(path);
+                CHECK(file.mesh.triangle_count() > 0);
+            } catch (const InputError& e) {
+                ++refused;
+                CHECK(std::string(e.what()).rfind(path, 0) == 0);
+            }
+        }
+        CAPTURE(ext);
+        CHECK(refused > 0);
+    }
 }
