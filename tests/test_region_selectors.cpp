@@ -4,6 +4,10 @@
 #include <nlohmann/json.hpp>
 
 #include "base/error.h"
+#include "mesh/builtin_meshes.h"
+#include "mesh/geometry.h"
+#include "mesh/vertex_rings.h"
+#include "region/region_field.h"
 #include "region/selectors.h"
 #include "test_region_meshes.h"
 
@@ -51,4 +55,28 @@ TEST_CASE("nearest vertex", "[region][selectors]") {
     CHECK(nearest_vertex(m.positions, Vec3(0.31, 0.52, 0.4)) == 5 * 11 + 3);
     CHECK(nearest_vertex(m.positions, Vec3(-5.0, -5.0, 0.0)) == 0);
     CHECK_THROWS_AS(nearest_vertex({}, Vec3(0.0)), InputError);
+}
+
+TEST_CASE("selectors and eq. (16) on the built-in cylinder", "[region][selectors]") {
+    const TriangleMesh m = make_builtin_mesh("cylinder");
+    const VertexRings rings = build_vertex_rings(m);
+    const BoundingBox box = bounding_box(m.positions);
+    // The lowest and highest fifth along the longest axis: inner and outer.
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (box.extent()[k] > box.extent()[axis]) axis = k;
+    Vec3 n(0.0);
+    n[axis] = 1.0;
+    const double lo = box.min[axis] + 0.2 * box.extent()[axis], hi = box.max[axis] - 0.2 * box.extent()[axis];
+    nlohmann::json inner_json = {{{"halfspace", {-n.x, -n.y, -n.z, -lo}}}};
+    nlohmann::json outer_json = {{{"halfspace", {n.x, n.y, n.z, hi}}}};
+    const auto inner = select_vertices(m.positions, parse_selectors(inner_json, "inner"));
+    const auto outer = select_vertices(m.positions, parse_selectors(outer_json, "outer"));
+    const RegionField f = painted_region_field(m.positions, rings, inner, outer);
+    CHECK(f.warnings.empty());
+    for (std::size_t v = 0; v < f.s.size(); ++v) {
+        if (inner[v]) REQUIRE(f.s[v] == 0.0);
+        else if (outer[v]) REQUIRE(f.s[v] == 1.0);
+        else REQUIRE((f.s[v] > 0.0 && f.s[v] < 1.0));
+    }
 }
