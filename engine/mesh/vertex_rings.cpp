@@ -10,10 +10,16 @@ struct Wedge {
     std::uint32_t a, b;
 };
 
-// Orders the wedges of one vertex into fans. Each fan starts at a wedge whose `a`
-// is no other wedge's `b` (a boundary or non-manifold gap); what remains after all
-// such fans are taken are closed cycles.
-void order_fans(std::vector<Wedge>& wedges, std::vector<std::uint32_t>& ring, std::vector<std::uint8_t>& gaps) {
+// One fan around a vertex: consecutive neighbours, each pair spanning a triangle.
+struct Fan {
+    std::vector<std::uint32_t> neighbours;
+    bool closed = false;  // the last neighbour connects back to the first
+};
+
+// Splits the wedges of one vertex into fans. A fan starts at a wedge whose `a` is
+// no other wedge's `b` (a boundary or non-manifold gap); the wedges left after all
+// such fans are taken form closed cycles.
+std::vector<Fan> collect_fans(const std::vector<Wedge>& wedges) {
     std::vector<bool> used(wedges.size(), false);
     auto find_from = [&](std::uint32_t a) -> int {
         for (std::size_t i = 0; i < wedges.size(); ++i)
@@ -26,23 +32,45 @@ void order_fans(std::vector<Wedge>& wedges, std::vector<std::uint32_t>& ring, st
         return true;
     };
     auto walk = [&](std::size_t start) {
-        std::uint32_t first = wedges[start].a;
-        ring.push_back(first);
-        int i = static_cast<int>(start);
-        while (i >= 0) {
+        Fan fan;
+        fan.neighbours.push_back(wedges[start].a);
+        for (int i = static_cast<int>(start); i >= 0; i = find_from(fan.neighbours.back())) {
             used[i] = true;
-            gaps.push_back(1);
-            std::uint32_t b = wedges[i].b;
-            if (b == first) return;  // closed cycle: b is already the first entry
-            ring.push_back(b);
-            i = find_from(b);
+            if (wedges[i].b == fan.neighbours.front()) {
+                fan.closed = true;
+                break;
+            }
+            fan.neighbours.push_back(wedges[i].b);
         }
-        gaps.push_back(0);  // open fan: no triangle after its last neighbour
+        return fan;
     };
+    std::vector<Fan> fans;
     for (std::size_t i = 0; i < wedges.size(); ++i)
-        if (!used[i] && is_fan_start(i)) walk(i);
+        if (!used[i] && is_fan_start(i)) fans.push_back(walk(i));
     for (std::size_t i = 0; i < wedges.size(); ++i)
-        if (!used[i]) walk(i);
+        if (!used[i]) fans.push_back(walk(i));
+    return fans;
+}
+
+// Writes the fans as one ring. A single closed fan is the ring of an interior
+// manifold vertex. With several fans each is written as an open run (a closed one
+// with its first neighbour repeated at the end), so that "a wedge follows entry k"
+// always means the triangle (v, ring[k], ring[k+1]).
+void append_ring(const std::vector<Fan>& fans, std::vector<std::uint32_t>& ring, std::vector<std::uint8_t>& wedge) {
+    const bool single_cycle = fans.size() == 1 && fans[0].closed;
+    for (const Fan& fan : fans) {
+        ring.insert(ring.end(), fan.neighbours.begin(), fan.neighbours.end());
+        wedge.insert(wedge.end(), fan.neighbours.size() - 1, 1);
+        if (single_cycle) {
+            wedge.push_back(1);
+        } else if (fan.closed) {
+            wedge.push_back(1);
+            ring.push_back(fan.neighbours.front());
+            wedge.push_back(0);
+        } else {
+            wedge.push_back(0);
+        }
+    }
 }
 
 }  // namespace
@@ -77,15 +105,9 @@ VertexRings build_vertex_rings(const TriangleMesh& mesh) {
     rings.neighbours.reserve(wedges.size());
     rings.wedge.reserve(wedges.size());
     std::vector<Wedge> local;
-    std::vector<std::uint32_t> ring;
-    std::vector<std::uint8_t> gaps;
     for (std::uint32_t v = 0; v < n; ++v) {
         local.assign(wedges.begin() + start[v], wedges.begin() + start[v + 1]);
-        ring.clear();
-        gaps.clear();
-        order_fans(local, ring, gaps);
-        rings.neighbours.insert(rings.neighbours.end(), ring.begin(), ring.end());
-        rings.wedge.insert(rings.wedge.end(), gaps.begin(), gaps.end());
+        append_ring(collect_fans(local), rings.neighbours, rings.wedge);
         rings.offsets[v + 1] = static_cast<std::uint32_t>(rings.neighbours.size());
     }
     return rings;

@@ -6,7 +6,9 @@
 // winding). Consecutive neighbours a = ring[k], b = ring[k+1 mod valence] span the
 // triangle (v, a, b) exactly when wedge[offsets[v] + k] is 1. A closed ring has a
 // wedge after every neighbour; an open ring (boundary vertex) has one gap after its
-// last neighbour; a non-manifold vertex has one gap per fan. Any valence is allowed.
+// last neighbour; a non-manifold vertex has one gap per fan, and a closed fan among
+// several is written with its first neighbour repeated at its end (so the ring
+// can be longer than the number of distinct neighbours). Any valence is allowed.
 
 #include <cstdint>
 #include <vector>
