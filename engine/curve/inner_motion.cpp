@@ -67,6 +67,7 @@ MotionSample InnerMotion::curve_sample(double t) const {
     // region turn by α(1) − α(0); k = α̇ / (2 |ċ|³) does, giving τ = α̇ ĉ.
     const double alpha_rate = alpha1_ - alpha0_;
     s.twist = alpha_rate * (c.d1 / speed);
+    s.twist_plane = twist_plane_;
     return s;
 }
 

@@ -23,6 +23,9 @@ struct MotionSample {
     Vec3 velocity{0.0};          // ċ(t)
     Vec3 angular_velocity{0.0};  // ω(t), zero in translation mode
     Vec3 twist{0.0};             // τ(t) = α̇(t) ĉ(t)
+    // Where the twist's plane ẽ = 0 lies along ĉ, as a signed distance from c(t).
+    // Eq. (14) puts it through c (0); see InnerMotion::set_twist_plane.
+    double twist_plane = 0.0;
 };
 
 class InnerMotion {
@@ -36,6 +39,16 @@ public:
     static InnerMotion rotation_about(Vec3 centre, Vec3 axis_angle);
 
     MotionSample at(double t) const;
+
+    // The twist's constant of integration. ẽ of eq. (14) may be shifted by any
+    // constant without changing the inner region's motion, but the shift decides
+    // how the blend region twists: with cross-sections at signed distance ζ along
+    // ĉ turning at the rate α̇ (1 − b) ∂ζ[(1 − b)(ζ − ζ0)], the printed ζ0 = 0 (the
+    // plane through c) makes the middle of the blend region turn backwards. Putting
+    // the plane at the far end of the moving part (ζ0 < 0) keeps every section
+    // turning forward. See docs/method.md.
+    void set_twist_plane(double signed_distance) { twist_plane_ = signed_distance; }
+    double twist_plane() const { return twist_plane_; }
 
     InnerMotionMode mode() const { return mode_; }
     const BezierCurve& curve() const { return curve_; }
@@ -52,6 +65,7 @@ private:
     BezierCurve curve_;
     double alpha0_ = 0.0, alpha1_ = 0.0;
     bool fixed_rotation_ = false;
+    double twist_plane_ = 0.0;
     Vec3 centre_{0.0}, axis_angle_{0.0};
 };
 

@@ -6,15 +6,16 @@ namespace vfsd {
 namespace {
 
 // f ∇e − e ∇f for the rotation fields about an axis through the origin of y with
-// angular velocity Ω. With e = λ â·y, f = λ² |y⊥|² and 2λ³ = |Ω| (so that
-// ∇e × ∇f = Ω × y, eq. 5 scaled):  f ∇e − e ∇f = ½ |y⊥|² Ω − (Ω·y) y⊥,
-// y⊥ being the part of y perpendicular to Ω.
-Vec3 rotation_stream(const Vec3& omega, const Vec3& y) {
+// angular velocity Ω. With e = λ (â·y − ζ0), f = λ² |y⊥|² and 2λ³ = |Ω| (so that
+// ∇e × ∇f = Ω × y, eq. 5 scaled):  f ∇e − e ∇f = ½ |y⊥|² Ω − (Ω·y − |Ω| ζ0) y⊥,
+// y⊥ being the part of y perpendicular to Ω and ζ0 where the plane e = 0 lies
+// along the axis.
+Vec3 rotation_stream(const Vec3& omega, const Vec3& y, double plane = 0.0) {
     const double len = glm::length(omega);
     if (len == 0.0) return Vec3(0.0);
     const Vec3 axis = omega / len;
     const Vec3 y_perp = y - glm::dot(axis, y) * axis;
-    return 0.5 * glm::dot(y_perp, y_perp) * omega - glm::dot(omega, y) * y_perp;
+    return 0.5 * glm::dot(y_perp, y_perp) * omega - (glm::dot(omega, y) - len * plane) * y_perp;
 }
 
 }  // namespace
@@ -39,9 +40,11 @@ Vec3 stream_vector(const MotionSample& m, const Vec3& x) {
     // f ∇e − e ∇f = (b·y) a − (a·y) b = y × ċ, free of the choice of a, b.
     // Rotation, eqs. (11)–(13), with f shifted so that f(c) = 0 as in eq. (10):
     // the curvature-centre terms cancel to the same y × ċ plus a rotation stream
-    // about the axis through c. The twist, eq. (14), is a rotation stream too.
+    // about the axis through c. The twist, eq. (14), is a rotation stream too,
+    // its plane ẽ = 0 at m.twist_plane along ĉ (eq. 14 as printed: 0, through c).
     const Vec3 y = x - m.position;
-    return glm::cross(y, m.velocity) + rotation_stream(m.angular_velocity, y) + rotation_stream(m.twist, y);
+    return glm::cross(y, m.velocity) + rotation_stream(m.angular_velocity, y) +
+           rotation_stream(m.twist, y, m.twist_plane);
 }
 
 Vec3 deformation_velocity(const MotionSample& m, const Vec3& x, double b, const Vec3& grad_b) {

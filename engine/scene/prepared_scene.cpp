@@ -18,6 +18,19 @@ std::vector<double> sphere_tool_field(const SphereTool& tool, const std::vector<
     return s;
 }
 
+// The far end of the moving part (s < 1) along the curve's start tangent, as a
+// signed distance from c(0): where the twist's plane ẽ = 0 goes by default.
+double far_end_of_moving_part(const InnerMotion& motion, const std::vector<Vec3>& positions, const std::vector<double>& s) {
+    const CurvePoint c = motion.curve().at(0.0);
+    const double speed = glm::length(c.d1);
+    if (speed == 0.0) return 0.0;
+    const Vec3 tangent = c.d1 / speed;
+    double far = 0.0;
+    for (std::size_t v = 0; v < positions.size(); ++v)
+        if (s[v] < 1.0) far = std::min(far, glm::dot(positions[v] - c.position, tangent));
+    return far;
+}
+
 void warn_about_region(const Region& region, std::vector<std::string>& warnings) {
     const bool any_moves = std::any_of(region.s.begin(), region.s.end(), [](double s) { return s < 1.0; });
     const bool any_inner = std::any_of(region.s.begin(), region.s.end(), [](double s) { return s <= 0.0; });
@@ -85,6 +98,8 @@ PreparedScene prepare_scene(const Scene& scene, MeshFile file) {
     p.rings = build_vertex_rings(p.file.mesh);
     p.region = build_region(scene.region, p.file.mesh.positions, p.rings, p.warnings);
     p.motion = scene_motion(scene);
+    if (!scene.twist_plane && !p.motion.is_fixed_rotation())
+        p.motion.set_twist_plane(far_end_of_moving_part(p.motion, p.file.mesh.positions, p.region.s));
     warn_about_motion(p, p.warnings);
     return p;
 }

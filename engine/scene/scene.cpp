@@ -134,6 +134,12 @@ void parse_motion_and_options(const Reader& in, const json& j, Scene& scene) {
         scene.twist_degrees[0] = in.number(t[0], "twist_degrees");
         scene.twist_degrees[1] = in.number(t[1], "twist_degrees");
     }
+    if (j.contains("twist_plane")) {
+        const json& plane = j["twist_plane"];
+        if (plane == "curve") scene.twist_plane = 0.0;
+        else if (plane.is_number()) scene.twist_plane = in.number(plane, "twist_plane");
+        else if (plane != "region") in.fail("twist_plane", "expected \"region\", \"curve\" or a number");
+    }
     if (j.contains("steps")) scene.options.steps = in.integer(j["steps"], "steps", 1, 1000000);
     if (j.contains("smoothing_steps")) scene.options.smoothing_steps = in.integer(j["smoothing_steps"], "smoothing_steps", 0, 10000);
     if (j.contains("target_time")) {
@@ -170,9 +176,12 @@ Scene load_scene(const std::string& path) {
 }
 
 InnerMotion scene_motion(const Scene& scene) {
-    if (scene.curve.is_handle) return handle_motion(scene.curve.from, scene.curve.to);
-    return InnerMotion::along_curve(BezierCurve(scene.curve.bezier), scene.inner_motion,
-                                    scene.twist_degrees[0] * kDegrees, scene.twist_degrees[1] * kDegrees);
+    InnerMotion motion = scene.curve.is_handle
+                             ? handle_motion(scene.curve.from, scene.curve.to)
+                             : InnerMotion::along_curve(BezierCurve(scene.curve.bezier), scene.inner_motion,
+                                                        scene.twist_degrees[0] * kDegrees, scene.twist_degrees[1] * kDegrees);
+    if (scene.twist_plane) motion.set_twist_plane(*scene.twist_plane);
+    return motion;
 }
 
 }  // namespace vfsd
@@ -230,6 +239,8 @@ nlohmann::json scene_to_json(const Scene& scene) {
     }
     j["inner_motion"] = scene.inner_motion == InnerMotionMode::Rotation ? "rotation" : "translation";
     j["twist_degrees"] = {scene.twist_degrees[0], scene.twist_degrees[1]};
+    if (scene.twist_plane) j["twist_plane"] = *scene.twist_plane;
+    else j["twist_plane"] = "region";
     j["steps"] = scene.options.steps;
     j["smoothing_steps"] = scene.options.smoothing_steps;
     j["target_time"] = scene.target_time;

@@ -12,8 +12,10 @@
 //          | {"handle": {"from": {"position": P, "normal": M, "binormal": W}, "to": {...}}},
 //   "inner_motion": "rotation" | "translation",
 //   "twist_degrees": [a0, a1],
+//   "twist_plane": "region" | "curve" | ζ0,          // where eq. (14)'s ẽ = 0 (default "region")
 //   "steps": 250, "smoothing_steps": 10, "target_time": 1.0 }
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +51,9 @@ struct Scene {
     CurveSpec curve;
     InnerMotionMode inner_motion = InnerMotionMode::Rotation;
     double twist_degrees[2] = {0.0, 0.0};
+    // Plane ẽ = 0 of the twist at this signed distance along ĉ from c; unset means
+    // "region": at the far end of the moving part (see InnerMotion::set_twist_plane).
+    std::optional<double> twist_plane;
     DeformationOptions options;
     double target_time = 1.0;
 };
