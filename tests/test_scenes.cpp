@@ -1,0 +1,75 @@
+// The paper-figure scenes of assets/scenes/ run as `vfsd deform` runs them, and
+// keep the promises of sec. 7: the outer region does not move, the inner region
+// moves rigidly, nothing folds, and the volume error stays below the paper's
+// figure for the same model (sec. 7.1).
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "deform/quality.h"
+#include "scene/prepared_scene.h"
+
+using namespace vfsd;
+
+namespace {
+
+struct SceneResult {
+    std::string name;
+    nlohmann::json paper;
+    DeformationQuality quality;
+};
+
+std::vector<std::string> scene_files() {
+    std::vector<std::string> files;
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(VFSD_SOURCE_DIR) + "/assets/scenes"))
+        if (entry.path().extension() == ".json") files.push_back(entry.path().string());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+SceneResult run_scene(const std::string& path) {
+    const PreparedScene prepared = prepare_scene(load_scene(path));
+    Deformation deformation = prepared.start_deformation();
+    deformation.advance(prepared.scene.target_time);
+    SceneResult r;
+    r.name = std::filesystem::path(path).stem().string();
+    r.paper = nlohmann::json::parse(std::ifstream(path)).value("paper", nlohmann::json::object());
+    r.quality = measure_quality(prepared.file.mesh.positions, deformation.positions(), prepared.file.mesh.triangles,
+                                prepared.region.s);
+    return r;
+}
+
+void check_paper_figures(const SceneResult& r) {
+    INFO(r.name << ": volume error " << r.quality.volume_error_percent << "%, " << r.quality.flipped_triangles
+                << " flipped triangles");
+    CHECK(r.quality.flipped_triangles == 0);
+    CHECK(r.quality.volume_error_percent < r.paper.at("volume_error_percent").get<double>());
+}
+
+}  // namespace
+
+TEST_CASE("paper-figure scenes keep the outer region and move the inner one rigidly", "[scenes]") {
+    const auto files = scene_files();
+    REQUIRE(files.size() >= 5);
+    for (const std::string& file : files) {
+        const SceneResult r = run_scene(file);
+        INFO(r.name);
+        CHECK(r.quality.outer_vertices > 0);
+        CHECK(r.quality.inner_vertices > 0);
+        CHECK(r.quality.outer_max_displacement == 0.0);
+        CHECK(r.quality.inner_rigid_residual < 1e-5);
+        CHECK(r.quality.nonfinite_vertices == 0);
+        if (!r.paper.contains("known_failure")) check_paper_figures(r);
+    }
+}
+
+// Scenes marked "known_failure" are measured and reported, not yet held to the figures.
+TEST_CASE("paper-figure scenes with a known failure", "[scenes][!mayfail]") {
+    for (const std::string& file : scene_files()) {
+        const SceneResult r = run_scene(file);
+        if (r.paper.contains("known_failure")) check_paper_figures(r);
+    }
+}
