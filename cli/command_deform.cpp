@@ -66,10 +66,11 @@ nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const D
             {"warnings", p.warnings}};
 }
 
-void write_field(const std::string& path, const std::vector<double>& s) {
+// s in the input file's vertex order, one value per line.
+void write_field(const std::string& path, const MeshFile& file, const std::vector<double>& s) {
     std::ostringstream out;
     out.precision(17);
-    for (double v : s) out << v << '\n';
+    for (std::uint32_t v : file.file_to_mesh) out << s[v] << '\n';
     write_file_atomically(path, out.str());
 }
 
@@ -93,7 +94,7 @@ int run_deform(const Args& args) {
 
     const PreparedScene prepared = prepare_scene(scene);
     for (const std::string& w : prepared.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (args.has("field-out")) write_field(args.get("field-out"), prepared.region.s);
+    if (args.has("field-out")) write_field(args.get("field-out"), prepared.file, prepared.region.s);
 
     Deformation deformation = prepared.start_deformation();
     const auto start = std::chrono::steady_clock::now();

@@ -1,0 +1,101 @@
+// `vfsd deform`: the scene contract, the report, the input's vertex order kept,
+// and exit codes 0 (done), 1 (bad input), 2 (usage).
+
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "io/mesh_file.h"
+#include "mesh/geometry.h"
+#include "test_io_support.h"
+
+using namespace vfsd;
+using vfsd::test::ScratchDir;
+using vfsd::test::write_bytes;
+
+namespace {
+
+// Runs `vfsd deform ARGS` with stdout and stderr saved in `dir`; returns the exit code.
+int deform(const ScratchDir& dir, const std::string& args) {
+    const std::string command = std::string("'") + VFSD_CLI_PATH + "' deform " + args + " >'" + dir.file("stdout.txt") +
+                                "' 2>'" + dir.file("stderr.txt") + "'";
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A scene that bends the top of a binary STL cube of 8 vertices (24 in the file).
+std::string cube_scene(const ScratchDir& dir) {
+    write_bytes(dir.file("cube.stl"), test::binary_stl(test::unit_cube()));
+    const nlohmann::json scene = {
+        {"mesh", "cube.stl"},
+        {"region", {{"kind", "painted"}, {"inner", {{{"halfspace", {0, 0, 1, 0.9}}}}}, {"outer", {{{"halfspace", {0, 0, -1, -0.1}}}}}}},
+        {"curve", {{"bezier", {{0.5, 0.5, 1.0}, {0.5, 0.5, 1.2}, {0.6, 0.5, 1.3}, {0.7, 0.5, 1.3}}}}},
+        {"steps", 40}};
+    write_bytes(dir.file("scene.json"), scene.dump());
+    return dir.file("scene.json");
+}
+
+}  // namespace
+
+TEST_CASE("vfsd deform writes the deformed mesh in the input's layout and a report", "[deform][cli]") {
+    ScratchDir dir;
+    const std::string scene = cube_scene(dir);
+    REQUIRE(deform(dir, "'" + scene + "' --out '" + dir.file("out.obj") + "' --report '" + dir.file("r.json") +
+                            "' --field-out '" + dir.file("s.txt") + "'") == 0);
+    // STL stores 3 vertices per triangle: the output keeps all 36, in file order.
+    const MeshFile input = read_mesh_file(dir.file("cube.stl"));
+    const MeshFile written = read_mesh_file(dir.file("out.obj"));
+    const TriangleMesh output = to_file_layout(written, written.mesh);
+    CHECK(output.vertex_count() == input.file_vertex_count());
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir.file("r.json")));
+    for (const char* key : {"vertices", "triangles", "steps", "backend", "ms_per_step", "total_ms", "volume_before",
+                            "volume_after", "volume_error_percent", "outer_max_displacement", "inner_rigid_residual",
+                            "flipped_triangles", "nonfinite_vertices"})
+        CHECK(report.contains(key));
+    CHECK(report["vertices"] == 8);
+    CHECK(report["steps"] == 40);
+    CHECK(report["backend"] == "cpu");
+    CHECK(report["outer_max_displacement"] == 0.0);
+    CHECK(report["volume_after"].get<double>() == Approx(signed_volume(output.positions, output.triangles)).epsilon(1e-6));
+    // The top corners (inner) moved, the bottom ones (outer) did not.
+    for (std::size_t i = 0; i < output.vertex_count(); ++i) {
+        const Vec3 before = input.mesh.positions[input.file_to_mesh[i]];
+        if (before.z == 0.0) CHECK(glm::length(output.positions[i] - before) < 1e-6);
+        if (before.z == 1.0) CHECK(glm::length(output.positions[i] - before) > 0.1);
+    }
+    std::ifstream field(dir.file("s.txt"));
+    std::size_t lines = 0;
+    for (double s; field >> s; ++lines) CHECK((s >= 0.0 && s <= 1.0));
+    CHECK(lines == input.file_vertex_count());
+}
+
+TEST_CASE("vfsd deform refuses bad scenes with one line and exit code 1", "[deform][cli]") {
+    ScratchDir dir;
+    const std::string scene = cube_scene(dir);
+    const std::string out = " --out '" + dir.file("out.ply") + "'";
+    write_bytes(dir.file("broken.json"), "{\"mesh\": \"cube.stl\", \"region\": ");
+    CHECK(deform(dir, "'" + dir.file("broken.json") + "'" + out) == 1);
+    write_bytes(dir.file("bad_field.json"), R"({"mesh": "builtin:box", "region": {"kind": "geodesic", "seed": [0,0,0], "g_min": 2, "g_max": 1},
+        "curve": {"bezier": [[0,0,0],[0,0,1],[0,0,2],[0,0,3]]}})");
+    CHECK(deform(dir, "'" + dir.file("bad_field.json") + "'" + out) == 1);
+    std::ifstream err(dir.file("stderr.txt"));
+    std::string line, message;
+    std::size_t lines = 0;
+    while (std::getline(err, line)) message = line, ++lines;
+    CHECK(lines == 1);
+    CHECK(message.find("g_min < g_max") != std::string::npos);
+    // Usage errors: no --out, an unknown backend, a non-integer step count.
+    CHECK(deform(dir, "'" + scene + "'") == 2);
+    CHECK(deform(dir, "'" + scene + "'" + out + " --backend vulkan") == 2);
+    CHECK(deform(dir, "'" + scene + "'" + out + " --steps 2.5") == 2);
+    // The input is never overwritten, an existing output only with --force.
+    CHECK(deform(dir, "'" + scene + "' --out '" + dir.file("cube.stl") + "' --force") == 1);
+    REQUIRE(deform(dir, "'" + scene + "'" + out) == 0);
+    CHECK(deform(dir, "'" + scene + "'" + out) == 1);
+    CHECK(deform(dir, "'" + scene + "'" + out + " --force") == 0);
+}
