@@ -30,15 +30,18 @@ Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region 
     next_.resize(positions_.size());
 }
 
+double next_time_on_grid(double time, double target, int steps) {
+    const double n = steps;
+    const double k = time * n;
+    const double next = target > time ? (std::floor(k + 1e-9) + 1.0) / n : (std::ceil(k - 1e-9) - 1.0) / n;
+    return (target > time) == (next > target) ? target : next;
+}
+
 int Deformation::advance(double target, int max_steps) {
     target = std::clamp(target, 0.0, 1.0);
-    const double n = options_.steps;
     int taken = 0;
     while (taken < max_steps && time_ != target) {
-        // Walk along the grid k / steps; a step toward an off-grid target ends on it.
-        const double k = time_ * n;
-        double next = target > time_ ? (std::floor(k + 1e-9) + 1.0) / n : (std::ceil(k - 1e-9) - 1.0) / n;
-        if ((target > time_) == (next > target)) next = target;
+        const double next = next_time_on_grid(time_, target, options_.steps);
         step(next - time_);
         time_ = next;
         ++taken;

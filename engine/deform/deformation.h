@@ -30,6 +30,10 @@ struct Region {
     std::optional<SphereTool> sphere_tool;
 };
 
+// The next time after `time` on the way to `target`: the neighbouring grid point
+// k / steps, or `target` itself when that comes first. Both backends step so.
+double next_time_on_grid(double time, double target, int steps);
+
 class Deformation {
 public:
     // Throws InputError when sizes disagree or options are out of range.
