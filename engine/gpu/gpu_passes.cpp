@@ -1,0 +1,201 @@
+#include "gpu/gpu_passes.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "base/error.h"
+#include "gpu/capabilities.h"
+#include "gpu/gpu_error.h"
+
+namespace vfsd::gpu {
+namespace {
+
+// Texture units of the pass inputs.
+constexpr int kUnitRings = 0, kUnitNeighbours = 1, kUnitPositions = 2, kUnitNormals = 3, kUnitGradients = 4;
+
+// s as float32, keeping its region: a value strictly inside (0, 1) in double stays
+// strictly inside in float, so the GPU's 0 < s < 1 tests pick the same vertices.
+float region_float(double s) {
+    float f = static_cast<float>(s);
+    if (s > 0.0 && f <= 0.0f) f = std::numeric_limits<float>::denorm_min();
+    if (s < 1.0 && f >= 1.0f) f = std::nextafter(1.0f, 0.0f);
+    return f;
+}
+
+Program fullscreen_program(const char* name, const char* fragment, bool with_field) {
+    std::vector<std::string> files = {"mesh_textures.glsl"};
+    if (with_field) files.push_back("field.glsl");
+    files.push_back(fragment);
+    return Program(name, {"fullscreen.vert"}, files);
+}
+
+void set_motion(const Program& p, const std::string& name, const MotionSample& m) {
+    auto set3 = [&](const char* field, const Vec3& v) {
+        p.set((name + "." + field).c_str(), float(v.x), float(v.y), float(v.z));
+    };
+    set3("position", m.position);
+    set3("velocity", m.velocity);
+    set3("angular_velocity", m.angular_velocity);
+    set3("twist", m.twist);
+    p.set((name + ".twist_plane").c_str(), static_cast<float>(m.twist_plane));
+}
+
+}  // namespace
+
+GpuPasses::GpuPasses(const std::vector<Vec3>& positions, const std::vector<double>& s, const VertexRings& rings)
+    : count_(positions.size()) {
+    if (s.size() != count_ || rings.vertex_count() != count_)
+        throw InputError("GPU passes: " + std::to_string(count_) + " positions, " + std::to_string(s.size()) +
+                         " values of s and rings for " + std::to_string(rings.vertex_count()) + " vertices");
+    const Capabilities caps = query_capabilities();
+    require_gpu_support(caps, std::max(count_, rings.neighbours.size()));
+    layout_ = TextureLayout::for_count(count_, caps.max_texture_size);
+
+    // Connectivity: ring offsets and lengths per vertex, then the ring entries.
+    std::vector<std::int32_t> ring_data(layout_.texels() * 2, 0);
+    for (std::uint32_t v = 0; v < count_; ++v) {
+        ring_data[2 * v] = static_cast<std::int32_t>(rings.begin(v));
+        ring_data[2 * v + 1] = static_cast<std::int32_t>(rings.valence(v));
+    }
+    const TextureLayout entries = TextureLayout::for_count(rings.neighbours.size(), caps.max_texture_size);
+    std::vector<std::int32_t> entry_data(entries.texels(), 0);
+    for (std::size_t i = 0; i < rings.neighbours.size(); ++i)
+        entry_data[i] = static_cast<std::int32_t>((rings.neighbours[i] << 1) | (rings.wedge[i] ? 1u : 0u));
+    rings_ = Texture(GL_RG32I, layout_.width, layout_.height);
+    rings_.upload(ring_data.data());
+    neighbours_ = Texture(GL_R32I, entries.width, entries.height);
+    neighbours_.upload(entry_data.data());
+
+    // State textures, each with its framebuffer.
+    for (Target* t : {&vertex_[0], &vertex_[1], &midpoint_, &normal_, &gradient_[0], &gradient_[1]})
+        *t = make_target();
+    s_.resize(count_);
+    for (std::size_t v = 0; v < count_; ++v) s_[v] = region_float(s[v]);
+    set_positions(positions);
+    set_gradients(std::vector<Vec3>(count_, Vec3(0.0)));
+
+    normal_program_ = fullscreen_program("normal pass", "normal.frag", false);
+    gradient_program_ = fullscreen_program("gradient pass", "gradient.frag", false);
+    smooth_program_ = fullscreen_program("smoothing pass", "smooth.frag", false);
+    predict_program_ = fullscreen_program("midpoint predictor", "predict.frag", true);
+    deform_program_ = fullscreen_program("deformation pass", "deform.frag", true);
+    check_gl("setting up the GPU passes");
+}
+
+GpuPasses::Target GpuPasses::make_target() const {
+    Target t;
+    t.texture = Texture(GL_RGBA32F, layout_.width, layout_.height);
+    t.framebuffer = Framebuffer(t.texture);
+    return t;
+}
+
+const Texture& GpuPasses::source(At at) const {
+    return at == At::positions ? vertex_[current_].texture : midpoint_.texture;
+}
+
+// Binds the connectivity textures and the layout uniforms of mesh_textures.glsl.
+void GpuPasses::bind_mesh(const Program& program) const {
+    program.use();
+    program.set("u_width", layout_.width);
+    program.set("u_count", static_cast<int>(count_));
+    rings_.bind(kUnitRings);
+    neighbours_.bind(kUnitNeighbours);
+    program.set("u_rings", kUnitRings);
+    program.set("u_neighbours", kUnitNeighbours);
+    program.set("u_positions", kUnitPositions);
+    program.set("u_normals", kUnitNormals);
+    program.set("u_gradients", kUnitGradients);
+}
+
+// One fullscreen triangle into `target`: the fragment shader runs once per texel.
+void GpuPasses::draw(const Target& target) const {
+    target.framebuffer.bind();
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    empty_vao_.bind();
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+void GpuPasses::estimate_normals(At at) {
+    bind_mesh(normal_program_);
+    source(at).bind(kUnitPositions);
+    draw(normal_);
+}
+
+void GpuPasses::estimate_gradients(At at) {
+    bind_mesh(gradient_program_);
+    source(at).bind(kUnitPositions);
+    normal_.texture.bind(kUnitNormals);
+    draw(gradient_[current_gradient_]);
+}
+
+void GpuPasses::smooth_gradients(int steps, double weight) {
+    bind_mesh(smooth_program_);
+    smooth_program_.set("u_weight", static_cast<float>(weight));
+    vertex_[current_].texture.bind(kUnitPositions);  // only s (w) is read
+    normal_.texture.bind(kUnitNormals);
+    for (int step = 0; step < steps; ++step) {
+        gradient_[current_gradient_].texture.bind(kUnitGradients);
+        draw(gradient_[1 - current_gradient_]);
+        current_gradient_ = 1 - current_gradient_;
+    }
+}
+
+void GpuPasses::predict_midpoints(const MotionSample& start, double h) {
+    bind_mesh(predict_program_);
+    set_motion(predict_program_, "u_start", start);
+    predict_program_.set("u_h", static_cast<float>(h));
+    vertex_[current_].texture.bind(kUnitPositions);
+    gradient_[current_gradient_].texture.bind(kUnitGradients);
+    draw(midpoint_);
+}
+
+void GpuPasses::deformation_step(const StepMotion& motion) {
+    bind_mesh(deform_program_);
+    set_motion(deform_program_, "u_start", motion.start);
+    set_motion(deform_program_, "u_middle", motion.middle);
+    set_motion(deform_program_, "u_end", motion.end);
+    deform_program_.set("u_h", static_cast<float>(motion.h));
+    vertex_[current_].texture.bind(kUnitPositions);
+    gradient_[current_gradient_].texture.bind(kUnitGradients);
+    draw(vertex_[1 - current_]);
+    current_ = 1 - current_;
+}
+
+std::vector<float> GpuPasses::packed(const std::vector<Vec3>& xyz, bool with_s) const {
+    if (xyz.size() != count_)
+        throw InputError("GPU passes: " + std::to_string(xyz.size()) + " values for " + std::to_string(count_) +
+                         " vertices");
+    std::vector<float> data(layout_.texels() * 4, 0.0f);
+    for (std::size_t v = 0; v < count_; ++v) {
+        data[4 * v] = static_cast<float>(xyz[v].x);
+        data[4 * v + 1] = static_cast<float>(xyz[v].y);
+        data[4 * v + 2] = static_cast<float>(xyz[v].z);
+        data[4 * v + 3] = with_s ? s_[v] : 0.0f;
+    }
+    return data;
+}
+
+void GpuPasses::set_positions(const std::vector<Vec3>& positions) {
+    vertex_[current_].texture.upload(packed(positions, true).data());
+}
+
+void GpuPasses::set_gradients(const std::vector<Vec3>& gradients) {
+    gradient_[current_gradient_].texture.upload(packed(gradients, false).data());
+}
+
+std::vector<Vec3> GpuPasses::read(const Target& target) const {
+    const std::vector<float> data = target.framebuffer.read_rgba32f();
+    std::vector<Vec3> out(count_);
+    for (std::size_t v = 0; v < count_; ++v) out[v] = Vec3(data[4 * v], data[4 * v + 1], data[4 * v + 2]);
+    return out;
+}
+
+std::vector<Vec3> GpuPasses::read_positions() const { return read(vertex_[current_]); }
+std::vector<Vec3> GpuPasses::read_midpoints() const { return read(midpoint_); }
+std::vector<Vec3> GpuPasses::read_normals() const { return read(normal_); }
+std::vector<Vec3> GpuPasses::read_gradients() const { return read(gradient_[current_gradient_]); }
+
+}  // namespace vfsd::gpu

@@ -1,0 +1,84 @@
+#pragma once
+// The four per-step passes of sec. 5 (plus the midpoint predictor) on the GPU,
+// one fragment shader each, with the names of their CPU counterparts in
+// engine/deform/passes.h. All state lives in textures laid out by TextureLayout:
+//
+//   vertex texture    RGBA32F  xyz = position, w = s   (two, ping-pong over steps)
+//   midpoint texture  RGBA32F  xyz = predicted midpoint, w = s
+//   normal texture    RGBA32F  xyz = normal
+//   gradient texture  RGBA32F  xyz = ∇r                (two, ping-pong while smoothing)
+//   ring texture      RG32I    first ring entry, ring length
+//   neighbour texture R32I     (neighbour << 1) | wedge flag, any valence
+//
+// Positions are float32 on the GPU (the CPU reference is double); docs/gpu.md
+// gives the measured differences. Only the read_* functions read back, and each
+// read-back is counted (gl_objects.h: readback_count()).
+
+#include <cstddef>
+#include <vector>
+
+#include "deform/passes.h"
+#include "gpu/gl_objects.h"
+#include "gpu/texture_layout.h"
+#include "mesh/vertex_rings.h"
+
+namespace vfsd::gpu {
+
+// Which vertex texture a pass works on: the positions at t or the predicted midpoints.
+enum class At { positions, midpoints };
+
+class GpuPasses {
+public:
+    // Uploads the mesh (positions, s, rings) into textures. Needs a current GL
+    // context; throws GpuUnavailable when it lacks float render targets or the
+    // texture size, GpuError when a shader fails, InputError when sizes disagree.
+    GpuPasses(const std::vector<Vec3>& positions, const std::vector<double>& s, const VertexRings& rings);
+
+    // Normal pass: normal texture from the vertex (or midpoint) texture.
+    void estimate_normals(At at);
+    // Gradient pass, eq. (6): gradient texture from the vertex texture and normals.
+    void estimate_gradients(At at);
+    // Smoothing pass, `steps` times (ping-pong); s is taken from the vertex texture.
+    void smooth_gradients(int steps, double weight);
+    // Midpoint predictor: midpoint texture from the positions and the current gradients.
+    void predict_midpoints(const MotionSample& start, double h);
+    // Deformation pass: one RK4 step of the positions; the new positions become current.
+    void deformation_step(const StepMotion& motion);
+
+    // Replace GPU state (tests, restarts); uploads are not read-backs.
+    void set_positions(const std::vector<Vec3>& positions);
+    void set_gradients(const std::vector<Vec3>& gradients);
+    // Read GPU state back (each call is one counted read-back).
+    std::vector<Vec3> read_positions() const;
+    std::vector<Vec3> read_midpoints() const;
+    std::vector<Vec3> read_normals() const;
+    std::vector<Vec3> read_gradients() const;
+
+    // The current vertex texture (xyz + s), for drawing without read-back.
+    const Texture& vertex_texture() const { return vertex_[current_].texture; }
+    std::size_t vertex_count() const { return count_; }
+    const TextureLayout& layout() const { return layout_; }
+
+private:
+    struct Target {
+        Texture texture;
+        Framebuffer framebuffer;
+    };
+    Target make_target() const;
+    const Texture& source(At at) const;
+    void bind_mesh(const Program& program) const;
+    void draw(const Target& target) const;
+    std::vector<float> packed(const std::vector<Vec3>& xyz, bool with_s) const;
+    std::vector<Vec3> read(const Target& target) const;
+
+    std::size_t count_ = 0;
+    TextureLayout layout_;
+    std::vector<float> s_;  // s as uploaded (float32, see upload rules in the .cpp)
+    Texture rings_, neighbours_;
+    Target vertex_[2], midpoint_, normal_, gradient_[2];
+    int current_ = 0, current_gradient_ = 0;
+    Program normal_program_, gradient_program_, smooth_program_, predict_program_, deform_program_;
+    VertexArray empty_vao_;
+};
+
+}  // namespace vfsd::gpu

@@ -1,0 +1,52 @@
+// The deformation field v + ṽ in closed form, as engine/field/vector_field.cpp.
+// MotionSample of engine/curve/inner_motion.h at one time t.
+struct Motion {
+    vec3 position;          // c(t)
+    vec3 velocity;          // ċ(t)
+    vec3 angular_velocity;  // ω(t), zero in translation mode
+    vec3 twist;             // τ(t) = α̇(t) ĉ(t)
+    float twist_plane;      // where the twist's plane ẽ = 0 lies along ĉ, from c(t)
+};
+
+// b(u) of eq. (4): 4u³ − 3u⁴ on [0,1], 0 below, 1 above.
+float bernstein_blend(float u) {
+    if (u <= 0.0) return 0.0;
+    if (u >= 1.0) return 1.0;
+    return u * u * u * (4.0 - 3.0 * u);
+}
+
+// db/du = 12u²(1 − u) on (0,1), 0 elsewhere.
+float bernstein_blend_derivative(float u) {
+    if (u <= 0.0 || u >= 1.0) return 0.0;
+    return 12.0 * u * u * (1.0 - u);
+}
+
+// f ∇e − e ∇f of a rotation with angular velocity omega about an axis through
+// the origin of y, its plane e = 0 at `plane` along the axis:
+// ½ |y⊥|² Ω − (Ω·y − |Ω| ζ0) y⊥.
+vec3 rotation_stream(vec3 omega, vec3 y, float plane) {
+    float len = length(omega);
+    if (len == 0.0) return vec3(0.0);
+    vec3 axis = omega / len;
+    vec3 y_perp = y - dot(axis, y) * axis;
+    return 0.5 * dot(y_perp, y_perp) * omega - (dot(omega, y) - len * plane) * y_perp;
+}
+
+// Rigid velocity of the inner region: ∇e × ∇f (+ ∇ẽ × ∇f̃).
+vec3 inner_velocity(Motion m, vec3 x) {
+    return m.velocity + cross(m.angular_velocity + m.twist, x - m.position);
+}
+
+// f ∇e − e ∇f (+ f̃ ∇ẽ − ẽ ∇f̃): translation (eqs. 9–10), rotation (eqs. 11–13),
+// twist (eq. 14) with its plane at m.twist_plane.
+vec3 stream_vector(Motion m, vec3 x) {
+    vec3 y = x - m.position;
+    return cross(y, m.velocity) + rotation_stream(m.angular_velocity, y, 0.0) +
+           rotation_stream(m.twist, y, m.twist_plane);
+}
+
+// v + ṽ = (1 − b)² ∇e × ∇f − (1 − b) (f ∇e − e ∇f) × ∇b   (eqs. 1–3)
+vec3 deformation_velocity(Motion m, vec3 x, float b, vec3 grad_b) {
+    float a = 1.0 - b;
+    return a * a * inner_velocity(m, x) - a * cross(stream_vector(m, x), grad_b);
+}

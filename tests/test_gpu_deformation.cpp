@@ -1,0 +1,114 @@
+// A whole deformation on the GPU agrees with the CPU reference on every scene of
+// assets/scenes: positions within 1e-4 of the bounding-box diagonal (see below for
+// scenes whose CPU result has foldovers), volume error
+// within the CPU's plus 0.05 percentage points, and no read-back while integrating.
+// VFSD_GPU_SCENE_STEPS overrides the number of steps (the scenes' own by default).
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include "deform/quality.h"
+#include "gpu/gl_objects.h"
+#include "gpu/gpu_deformation.h"
+#include "mesh/geometry.h"
+#include "scene/prepared_scene.h"
+#include "test_gpu_support.h"
+
+using namespace vfsd;
+
+namespace {
+
+std::vector<std::string> scene_files() {
+    std::vector<std::string> files;
+    const std::filesystem::path dir = std::filesystem::path(VFSD_SOURCE_DIR) / "assets" / "scenes";
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
+        if (entry.path().extension() == ".json") files.push_back(entry.path().string());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+TEST_CASE("GPU deformation of every scene agrees with the CPU", "[gpu][scene]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    const std::vector<std::string> files = scene_files();
+    REQUIRE(!files.empty());
+    for (const std::string& file : files) {
+        Scene scene = load_scene(file);
+        if (const char* steps = std::getenv("VFSD_GPU_SCENE_STEPS")) scene.options.steps = std::atoi(steps);
+        const PreparedScene prepared = prepare_scene(scene);
+        if (prepared.region.sphere_tool) continue;  // the sphere tool runs on the CPU only
+        const std::vector<Vec3>& start = prepared.file.mesh.positions;
+        const BoundingBox box = bounding_box(start);
+        const double diagonal = glm::length(box.max - box.min);
+
+        auto t0 = std::chrono::steady_clock::now();
+        Deformation cpu = prepared.start_deformation();
+        cpu.advance(scene.target_time);
+        const double cpu_ms = ms_since(t0);
+
+        t0 = std::chrono::steady_clock::now();
+        gpu::GpuDeformation gpu(start, prepared.rings, prepared.region, prepared.motion, scene.options);
+        const std::uint64_t readbacks = gpu::readback_count();
+        const int steps = gpu.advance(scene.target_time);
+        gpu.finish();
+        CHECK(gpu::readback_count() == readbacks);  // nothing read back while integrating
+        const double gpu_ms = ms_since(t0);
+        CHECK(gpu.time() == cpu.time());
+
+        const std::vector<Vec3>& result = gpu.positions();
+        const double error = test::max_distance(result, cpu.positions());
+        std::vector<double> errors;
+        for (std::size_t v = 0; v < result.size(); ++v) errors.push_back(glm::length(result[v] - cpu.positions()[v]));
+        std::sort(errors.begin(), errors.end());
+        const double p99 = errors[errors.size() * 99 / 100];
+        const std::size_t over = errors.end() - std::upper_bound(errors.begin(), errors.end(), 1e-4 * diagonal);
+        const auto& triangles = prepared.file.mesh.triangles;
+        const DeformationQuality q_cpu = measure_quality(start, cpu.positions(), triangles, prepared.region.s);
+        const DeformationQuality q_gpu = measure_quality(start, result, triangles, prepared.region.s);
+        std::printf("gpu-vs-cpu scene %-32s %6zu vertices %3d steps: max error %.3g of the diagonal (99%%: %.3g, %zu over 1e-4), volume error "
+                    "cpu %.4f%% gpu %.4f%%, flipped cpu %zu gpu %zu, %.1f vs %.1f ms/step (cpu vs llvmpipe)\n",
+                    std::filesystem::path(file).filename().string().c_str(), start.size(), steps, error / diagonal,
+                    p99 / diagonal, over, q_cpu.volume_error_percent, q_gpu.volume_error_percent, q_cpu.flipped_triangles,
+                    q_gpu.flipped_triangles, cpu_ms / steps, gpu_ms / steps);
+        INFO(file);
+        if (q_cpu.flipped_triangles == 0) {
+            CHECK(error < 1e-4 * diagonal);
+        } else {
+            // Where the CPU itself folds triangles the field is ill-conditioned and
+            // float32 rounding is amplified at the folds (docs/gpu.md): all but 1% of
+            // the vertices still agree within 1e-4, the rest within 2e-3 of the diagonal.
+            CHECK(p99 < 1e-4 * diagonal);
+            CHECK(error < 2e-3 * diagonal);
+        }
+        CHECK(q_gpu.volume_error_percent < q_cpu.volume_error_percent + 0.05);
+        CHECK(q_gpu.flipped_triangles <= q_cpu.flipped_triangles + q_cpu.flipped_triangles / 20);
+    }
+}
+
+TEST_CASE("GPU deformation integrates back and forth on the CPU's time grid", "[gpu]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    Scene scene = load_scene(std::string(VFSD_SOURCE_DIR) + "/assets/scenes/fig04-box-bend.json");
+    scene.options.steps = 20;
+    const PreparedScene prepared = prepare_scene(scene);
+    Deformation cpu = prepared.start_deformation();
+    gpu::GpuDeformation gpu(prepared.file.mesh.positions, prepared.rings, prepared.region, prepared.motion,
+                            scene.options);
+    for (double target : {0.37, 1.0, 0.5, 0.0}) {
+        CHECK(gpu.advance(target, 7) == cpu.advance(target, 7));
+        CHECK(gpu.advance(target) == cpu.advance(target));
+        CHECK(gpu.time() == cpu.time());
+        CHECK(test::max_distance(gpu.positions(), cpu.positions()) < 1e-5);
+    }
+    // Back at t = 0 the GPU is as close to the start as the CPU (the midpoint rule retraces its way).
+    const auto& start = prepared.file.mesh.positions;
+    CHECK(test::max_distance(gpu.positions(), start) < test::max_distance(cpu.positions(), start) + 1e-5);
+}
