@@ -2,6 +2,7 @@
 
 #include <glm/mat3x3.hpp>
 
+#include "base/parallel.h"
 #include "field/vector_field.h"
 #include "mesh/geometry.h"
 
@@ -28,7 +29,8 @@ void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rin
 void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                         const std::vector<double>& s, const VertexRings& rings, std::vector<Vec3>& gradients) {
     gradients.resize(positions.size());
-    for (std::uint32_t v = 0; v < rings.vertex_count(); ++v) {
+    parallel_for(rings.vertex_count(), [&](std::size_t first, std::size_t last) {
+    for (auto v = static_cast<std::uint32_t>(first); v < last; ++v) {
         const Vec3 x = positions[v];
         const Vec3 n = normals[v];
         // Normal equations of eq. (6) in the tangent plane: with p = (y − x)
@@ -49,13 +51,15 @@ void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Ve
         // A ring that spans no plane (fewer than two independent directions) gives no gradient.
         gradients[v] = det > 1e-12 * scale * scale * scale ? glm::inverse(normal_matrix) * rhs : Vec3(0.0);
     }
+    });
 }
 
 void smooth_gradients(const std::vector<Vec3>& normals, const std::vector<double>& s, const VertexRings& rings,
                       int steps, double weight, std::vector<Vec3>& gradients, std::vector<Vec3>& scratch) {
     scratch.resize(gradients.size());
     for (int step = 0; step < steps; ++step) {
-        for (std::uint32_t v = 0; v < rings.vertex_count(); ++v) {
+        parallel_for(rings.vertex_count(), [&](std::size_t first, std::size_t last) {
+        for (auto v = static_cast<std::uint32_t>(first); v < last; ++v) {
             // Average over the neighbours inside the blend region only: outside it s
             // is constant, ∇r there carries no information, and mixing it in would
             // shrink ∇r along the region's borders.
@@ -68,6 +72,7 @@ void smooth_gradients(const std::vector<Vec3>& normals, const std::vector<double
             const Vec3 g = count > 0 ? gradients[v] + weight * (sum / double(count) - gradients[v]) : gradients[v];
             scratch[v] = g - glm::dot(g, normals[v]) * normals[v];
         }
+        });
         gradients.swap(scratch);
     }
 }
@@ -76,10 +81,12 @@ void predict_midpoints(const MotionSample& start, double h, const std::vector<do
                        const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions,
                        std::vector<Vec3>& midpoints) {
     midpoints.resize(positions.size());
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-        const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
-        midpoints[v] = positions[v] + 0.5 * h * deformation_velocity(start, positions[v], bernstein_blend(s[v]), grad_b);
-    }
+    parallel_for(positions.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t v = first; v < last; ++v) {
+            const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
+            midpoints[v] = positions[v] + 0.5 * h * deformation_velocity(start, positions[v], bernstein_blend(s[v]), grad_b);
+        }
+    });
 }
 
 StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
@@ -88,15 +95,17 @@ StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
 
 void deformation_step(const StepMotion& motion, const std::vector<double>& s, const std::vector<Vec3>& gradients,
                       std::vector<Vec3>& positions) {
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-        // r = s and ∇r fixed over the step; ∇b = b'(s) ∇r (eq. 4 with r_i = 0, r_o = 1).
-        const double b = bernstein_blend(s[v]);
-        if (b == 1.0) continue;  // outer region: v = 0 exactly
-        const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
-        positions[v] = rk4(motion, positions[v], [&](const Vec3& x, const MotionSample& m) {
-            return deformation_velocity(m, x, b, grad_b);
-        });
-    }
+    parallel_for(positions.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t v = first; v < last; ++v) {
+            // r = s and ∇r fixed over the step; ∇b = b'(s) ∇r (eq. 4 with r_i = 0, r_o = 1).
+            const double b = bernstein_blend(s[v]);
+            if (b == 1.0) continue;  // outer region: v = 0 exactly
+            const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
+            positions[v] = rk4(motion, positions[v], [&](const Vec3& x, const MotionSample& m) {
+                return deformation_velocity(m, x, b, grad_b);
+            });
+        }
+    });
 }
 
 void deformation_step(const StepMotion& motion, const SphereTool& tool, std::vector<Vec3>& positions) {

@@ -1,5 +1,7 @@
 #include "mesh/geometry.h"
 
+#include "base/parallel.h"
+
 #include <cmath>
 #include <limits>
 
@@ -29,7 +31,8 @@ double signed_volume(const std::vector<Vec3>& positions, const std::vector<Trian
 
 void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals) {
     normals.resize(positions.size());
-    for (std::uint32_t v = 0; v < rings.vertex_count(); ++v) {
+    parallel_for(rings.vertex_count(), [&](std::size_t first, std::size_t last) {
+    for (auto v = static_cast<std::uint32_t>(first); v < last; ++v) {
         const Vec3 x = positions[v];
         Vec3 sum(0.0);
         for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
@@ -41,6 +44,7 @@ void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings
         const double len = glm::length(sum);
         normals[v] = len > 0.0 ? sum / len : Vec3(0.0);
     }
+    });
 }
 
 }  // namespace vfsd
