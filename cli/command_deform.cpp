@@ -1,8 +1,10 @@
-// vfsd deform SCENE.json --out OUT [--report REPORT.json] [--steps N] [--backend cpu]
+// vfsd deform SCENE.json --out OUT [--report REPORT.json] [--steps N] [--backend cpu|gpu]
 //             [--field-out FILE] [--force]
 //
 // Runs the scene's deformation from t = 0 to its target time and writes the
 // deformed mesh in the input's vertex order and layout, and a measured report.
+// --backend gpu runs the passes of sec. 5 in a headless GL context (OSMesa); when
+// none can be made it exits 1 saying why (no silent fall-back to the CPU).
 
 #include <chrono>
 #include <cstdio>
@@ -17,6 +19,10 @@
 #include "deform/quality.h"
 #include "io/mesh_file.h"
 #include "scene/prepared_scene.h"
+#if VFSD_HAS_GPU
+#include "gpu/context.h"
+#include "gpu/gpu_deformation.h"
+#endif
 
 namespace vfsd::cli {
 namespace {
@@ -31,7 +37,8 @@ void refuse_overwrite(const std::string& out, const std::vector<std::string>& in
 }
 
 // Integrates to `target` in chunks, showing progress on a terminal.
-void run_to(Deformation& deformation, double target) {
+template <class D>
+void run_to(D& deformation, double target) {
     const bool tty = isatty(fileno(stderr));
     const int chunk = std::max(1, deformation.options().steps / 50);
     while (deformation.advance(target, chunk) > 0)
@@ -45,14 +52,26 @@ double median(std::vector<double> v) {
     return v[v.size() / 2];
 }
 
-nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const DeformationQuality& q, double total_ms) {
+// The CPU's steps are timed one by one; the GPU runs asynchronously, so its
+// ms/step is the whole run (ended by a glFinish) over the steps.
+double ms_per_step(const Deformation& d, double) { return median(d.step_milliseconds()); }
+void finish(const Deformation&) {}
+#if VFSD_HAS_GPU
+double ms_per_step(const gpu::GpuDeformation& d, double total_ms) {
+    return d.step_milliseconds().empty() ? 0.0 : total_ms / double(d.step_milliseconds().size());
+}
+void finish(const gpu::GpuDeformation& d) { d.finish(); }
+#endif
+
+template <class D>
+nlohmann::json report_json(const PreparedScene& p, const D& d, const DeformationQuality& q, double total_ms) {
     return {{"vertices", p.file.mesh.vertex_count()},
             {"triangles", p.file.mesh.triangle_count()},
             {"steps", d.step_milliseconds().size()},
             {"steps_per_unit_time", d.options().steps},
             {"target_time", d.time()},
             {"backend", "cpu"},
-            {"ms_per_step", median(d.step_milliseconds())},
+            {"ms_per_step", ms_per_step(d, total_ms)},
             {"total_ms", total_ms},
             {"volume_before", q.volume_before},
             {"volume_after", q.volume_after},
@@ -74,6 +93,30 @@ void write_field(const std::string& path, const MeshFile& file, const std::vecto
     write_file_atomically(path, out.str());
 }
 
+// Integrates to the scene's target time, writes the mesh and the report.
+template <class D>
+int deform_and_write(const Args& args, const PreparedScene& prepared, D& deformation,
+                     const nlohmann::json& backend_fields) {
+    const auto start = std::chrono::steady_clock::now();
+    run_to(deformation, prepared.scene.target_time);
+    finish(deformation);
+    const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+    TriangleMesh result = prepared.file.mesh;
+    result.positions = deformation.positions();
+    result.scalar = prepared.region.s;
+    write_mesh_file(args.get("out"), to_file_layout(prepared.file, result));
+    const DeformationQuality quality =
+        measure_quality(prepared.file.mesh.positions, result.positions, result.triangles, prepared.region.s);
+    nlohmann::json report = report_json(prepared, deformation, quality, total_ms);
+    report.update(backend_fields);
+    if (args.has("report")) write_file_atomically(args.get("report"), report.dump(2) + "\n");
+    std::printf("%s: %zu vertices, %d steps, %.3f ms/step, volume error %.4f%%, %zu flipped triangles\n",
+                args.get("out").c_str(), result.vertex_count(), static_cast<int>(deformation.step_milliseconds().size()),
+                report["ms_per_step"].get<double>(), quality.volume_error_percent, quality.flipped_triangles);
+    return kExitOk;
+}
+
 }  // namespace
 
 int run_deform(const Args& args) {
@@ -81,7 +124,7 @@ int run_deform(const Args& args) {
     const std::string scene_path = args.positional(0, "scene file");
     if (!args.has("out") || args.get("out").empty()) throw UsageError("--out OUT is required");
     const std::string backend = args.get("backend", "cpu");
-    if (backend != "cpu") throw UsageError("--backend must be 'cpu' (the GPU backend is not built yet)");
+    if (backend != "cpu" && backend != "gpu") throw UsageError("--backend must be 'cpu' or 'gpu'");
     Scene scene = load_scene(scene_path);
     if (args.has("steps")) {
         const double steps = args.get_number("steps", 0);
@@ -96,23 +139,18 @@ int run_deform(const Args& args) {
     for (const std::string& w : prepared.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     if (args.has("field-out")) write_field(args.get("field-out"), prepared.file, prepared.region.s);
 
-    Deformation deformation = prepared.start_deformation();
-    const auto start = std::chrono::steady_clock::now();
-    run_to(deformation, scene.target_time);
-    const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-
-    TriangleMesh result = prepared.file.mesh;
-    result.positions = deformation.positions();
-    result.scalar = prepared.region.s;
-    write_mesh_file(args.get("out"), to_file_layout(prepared.file, result));
-    const DeformationQuality quality =
-        measure_quality(prepared.file.mesh.positions, result.positions, result.triangles, prepared.region.s);
-    const nlohmann::json report = report_json(prepared, deformation, quality, total_ms);
-    if (args.has("report")) write_file_atomically(args.get("report"), report.dump(2) + "\n");
-    std::printf("%s: %zu vertices, %d steps, %.3f ms/step, volume error %.4f%%, %zu flipped triangles\n",
-                args.get("out").c_str(), result.vertex_count(), static_cast<int>(deformation.step_milliseconds().size()),
-                report["ms_per_step"].get<double>(), quality.volume_error_percent, quality.flipped_triangles);
-    return kExitOk;
+    if (backend == "cpu") {
+        Deformation deformation = prepared.start_deformation();
+        return deform_and_write(args, prepared, deformation, nlohmann::json::object());
+    }
+#if VFSD_HAS_GPU
+    const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();  // GpuUnavailable: exit 1
+    gpu::GpuDeformation deformation(prepared.file.mesh.positions, prepared.rings, prepared.region, prepared.motion,
+                                    scene.options);
+    return deform_and_write(args, prepared, deformation, {{"backend", "gpu"}, {"gl_renderer", context->renderer()}});
+#else
+    throw vfsd::Error("this vfsd was built without the GPU backend (OSMesa not found); use --backend cpu");
+#endif
 }
 
 }  // namespace vfsd::cli
