@@ -29,6 +29,15 @@ const std::vector<Command>& commands() {
          "--backend gpu runs the passes of sec. 5 in a headless GL context (OSMesa);\n"
          "when none can be made vfsd exits 1 and says why.\n",
          run_deform},
+        {"render", "render a scene (optionally deformed to a time) to a PNG, headless",
+         "usage: vfsd render SCENE.json --png OUT.png [--time t] [--size WxH] [--backend cpu|gpu]\n"
+         "                  [--wireframe] [--steps N] [--force]\n"
+         "\n"
+         "Draws the mesh with s from blue (0) to red (1), the region borders in yellow,\n"
+         "the curve, a white sphere at c(t) and a dark one at the scene's target time.\n"
+         "--time integrates to t first (default 0, the undeformed scene) on the GPU\n"
+         "(default) or the CPU. --size defaults to 800x600. Needs OSMesa.\n",
+         run_render},
     };
     return list;
 }

@@ -50,5 +50,6 @@ const std::vector<Command>& commands();
 int run_info(const Args& args);
 int run_convert(const Args& args);
 int run_deform(const Args& args);
+int run_render(const Args& args);
 
 }  // namespace vfsd::cli

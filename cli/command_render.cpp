@@ -1,0 +1,91 @@
+// vfsd render SCENE.json --png OUT.png [--time t] [--size WxH] [--backend cpu|gpu]
+//             [--wireframe] [--steps N] [--force]
+//
+// Renders the scene headless (OSMesa) as the apps show it: s from blue (0) to red
+// (1), the region borders, the curve, a white sphere at the current time and a
+// dark one at the scene's target time. --time integrates to t first, on the CPU
+// or (default) on the GPU, whose vertex texture is drawn without read-back.
+
+#include <cstdio>
+#include <filesystem>
+
+#include "base/error.h"
+#include "cli/commands.h"
+#include "scene/prepared_scene.h"
+
+#if VFSD_HAS_GPU
+#include "gpu/context.h"
+#include "gpu/gpu_deformation.h"
+#include "gpu/renderer.h"
+#endif
+
+namespace vfsd::cli {
+namespace {
+
+// "WxH" with both in [16, 8192].
+void parse_size(const std::string& text, int& width, int& height) {
+    char x = 0;
+    char rest = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || (x != 'x' && x != 'X') ||
+        width < 16 || height < 16 || width > 8192 || height > 8192)
+        throw UsageError("--size expects WxH with both between 16 and 8192, e.g. 800x600");
+}
+
+}  // namespace
+
+int run_render(const Args& args) {
+    args.expect({"png", "time", "size", "backend", "wireframe", "steps", "force"}, 1, 1);
+    const std::string scene_path = args.positional(0, "scene file");
+    if (!args.has("png") || args.get("png").empty()) throw UsageError("--png OUT.png is required");
+    const std::string out = args.get("png");
+    const std::string backend = args.get("backend", "gpu");
+    if (backend != "cpu" && backend != "gpu") throw UsageError("--backend must be 'cpu' or 'gpu'");
+    int width = 800, height = 600;
+    if (args.has("size")) parse_size(args.get("size"), width, height);
+    const double time = args.get_number("time", 0.0);
+    if (!(time >= 0.0 && time <= 1.0)) throw UsageError("--time expects a number in [0, 1]");
+    std::error_code ec;
+    if (std::filesystem::exists(out, ec) && !args.has("force"))
+        throw vfsd::InputError(out + ": already exists (pass --force to replace it)");
+    Scene scene = load_scene(scene_path);
+    if (args.has("steps")) {
+        const double steps = args.get_number("steps", 0);
+        if (steps < 1 || steps != static_cast<int>(steps)) throw UsageError("--steps expects a positive integer");
+        scene.options.steps = static_cast<int>(steps);
+    }
+#if VFSD_HAS_GPU
+    const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();
+    const PreparedScene prepared = prepare_scene(scene);
+    for (const std::string& w : prepared.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    const auto& start = prepared.file.mesh.positions;
+
+    // The camera frames the whole deformation, so frames of one scene at any time line up.
+    const gpu::Camera camera =
+        gpu::Camera::framing(gpu::deformation_frame_points(start, prepared.region.s, prepared.motion));
+    const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
+    gpu::RenderOptions options;
+    options.current_time = time;
+    options.target_time = scene.target_time;
+    options.wireframe = args.has("wireframe");
+
+    std::vector<std::uint8_t> image;
+    if (backend == "gpu" && !prepared.region.sphere_tool) {
+        gpu::GpuDeformation deformation(start, prepared.rings, prepared.region, prepared.motion, scene.options);
+        deformation.advance(time);
+        image = gpu::render_image(renderer, deformation.passes().vertex_texture(), camera, width, height, options);
+    } else {
+        Deformation deformation = prepared.start_deformation();
+        deformation.advance(time);
+        const gpu::Texture vertices = gpu::make_vertex_texture(deformation.positions(), prepared.region.s);
+        image = gpu::render_image(renderer, vertices, camera, width, height, options);
+    }
+    gpu::write_png(out, width, height, image);
+    std::printf("%s: %dx%d, t = %g, %s (%s)\n", out.c_str(), width, height, time, backend.c_str(),
+                context->renderer().c_str());
+    return kExitOk;
+#else
+    throw vfsd::Error("this vfsd was built without headless GL (OSMesa not found), so it cannot render");
+#endif
+}
+
+}  // namespace vfsd::cli

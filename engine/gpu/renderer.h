@@ -1,0 +1,70 @@
+#pragma once
+// The view both apps share, as in the paper's figures: the mesh with s colour-coded
+// blue (0) to red (1) and the separation lines between the three regions
+// highlighted, the curve c(t), a small white sphere at the current time and a dark
+// one at the target time, optionally the wireframe. The mesh is drawn straight
+// from a vertex texture (xyz + s) by gl_VertexID, so display needs no read-back.
+
+#include <memory>
+#include <vector>
+
+#include "curve/inner_motion.h"
+#include "gpu/gl_objects.h"
+#include "mesh/triangle_mesh.h"
+
+namespace vfsd::gpu {
+
+// A camera looking at a bounding sphere from a fixed 3/4 direction (z up).
+struct Camera {
+    Vec3 centre{0.0};
+    double radius = 1.0;
+    double fov_degrees = 30.0;
+    // Frames `points` (e.g. the mesh and the curve) from above front right.
+    static Camera framing(const std::vector<Vec3>& points);
+    // Column-major view and projection matrices for an image of the given aspect.
+    void matrices(double aspect, float view[16], float projection[16]) const;
+};
+
+// Points a camera should frame for a whole deformation without reading positions
+// back: the undeformed mesh, plus a sphere around c(t) for t along the curve as
+// large as the inner region (s = 0) is around c(0).
+std::vector<Vec3> deformation_frame_points(const std::vector<Vec3>& positions, const std::vector<double>& s,
+                                          const InnerMotion& motion);
+
+struct RenderOptions {
+    double current_time = 0.0;  // white sphere at c(current_time)
+    double target_time = 1.0;   // dark sphere at c(target_time)
+    bool wireframe = false;
+    bool show_curve = true;
+};
+
+class Renderer {
+public:
+    // Needs a current GL context. `triangles` index the vertex texture's texels.
+    Renderer(const std::vector<Triangle>& triangles, InnerMotion motion);
+
+    // Draws into the bound framebuffer (viewport width x height), clearing it first.
+    void draw(const Texture& vertex_texture, const Camera& camera, int width, int height,
+              const RenderOptions& options) const;
+
+private:
+    InnerMotion motion_;
+    Program mesh_program_, solid_program_;
+    Buffer triangle_indices_, edge_indices_, curve_points_, sphere_points_, sphere_indices_;
+    VertexArray mesh_vao_, curve_vao_, sphere_vao_;
+    GLsizei triangle_index_count_ = 0, edge_index_count_ = 0, curve_point_count_ = 0, sphere_index_count_ = 0;
+};
+
+// A vertex texture (xyz + s, RGBA32F, TextureLayout) holding given positions: how
+// the CPU path's result is drawn by the same renderer.
+Texture make_vertex_texture(const std::vector<Vec3>& positions, const std::vector<double>& s);
+
+// Renders off-screen at `width` x `height` (supersampled 2 x 2) and returns the
+// RGBA8 image, top row first (one counted read-back).
+std::vector<std::uint8_t> render_image(const Renderer& renderer, const Texture& vertex_texture,
+                                       const Camera& camera, int width, int height, const RenderOptions& options);
+
+// Writes an RGBA8 image (top row first) as PNG, atomically.
+void write_png(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgba);
+
+}  // namespace vfsd::gpu

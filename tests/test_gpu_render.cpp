@@ -1,0 +1,85 @@
+// The shared renderer draws a scene from the vertex texture with s colour-coded:
+// blue where s = 0, red where s = 1; and the CLI renders and deforms headless.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "gpu/gl_objects.h"
+#include "gpu/gpu_deformation.h"
+#include "gpu/renderer.h"
+#include "scene/prepared_scene.h"
+#include "test_gpu_support.h"
+
+using namespace vfsd;
+
+namespace {
+
+const std::string kScene = std::string(VFSD_SOURCE_DIR) + "/assets/scenes/fig04-box-bend.json";
+
+struct PixelCounts {
+    int blue = 0, red = 0, background = 0;
+};
+
+PixelCounts count_pixels(const std::vector<std::uint8_t>& rgba) {
+    PixelCounts c;
+    for (std::size_t i = 0; i + 3 < rgba.size(); i += 4) {
+        const int r = rgba[i], g = rgba[i + 1], b = rgba[i + 2];
+        if (b > 120 && b > r + 60 && b > g + 40) ++c.blue;
+        if (r > 120 && r > b + 60 && r > g + 60) ++c.red;
+        if (r > 230 && g > 230 && b > 230) ++c.background;
+    }
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("Rendered scene shows s = 0 in blue and s = 1 in red", "[gpu][render]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    Scene scene = load_scene(kScene);
+    scene.options.steps = 20;
+    const PreparedScene prepared = prepare_scene(scene);
+    const auto& start = prepared.file.mesh.positions;
+    const gpu::Camera camera = gpu::Camera::framing(gpu::deformation_frame_points(start, prepared.region.s, prepared.motion));
+    const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
+    gpu::GpuDeformation deformation(start, prepared.rings, prepared.region, prepared.motion, scene.options);
+    for (double t : {0.0, 1.0}) {
+        deformation.advance(t);
+        gpu::RenderOptions options;
+        options.current_time = t;
+        const std::vector<std::uint8_t> image =
+            gpu::render_image(renderer, deformation.passes().vertex_texture(), camera, 160, 120, options);
+        REQUIRE(image.size() == 160u * 120u * 4u);
+        const PixelCounts c = count_pixels(image);
+        INFO("t = " << t << ": " << c.blue << " blue, " << c.red << " red, " << c.background << " background pixels");
+        CHECK(c.blue > 200);
+        CHECK(c.red > 50);
+        CHECK(c.background > 160 * 120 / 3);
+    }
+}
+
+TEST_CASE("vfsd render and vfsd deform --backend gpu run headless", "[gpu][render][cli]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    const auto dir = std::filesystem::temp_directory_path() / "vfsd_test_gpu_cli";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string png = (dir / "scene.png").string(), mesh = (dir / "out.obj").string(),
+                      report = (dir / "report.json").string();
+    const std::string cli = std::string("'") + VFSD_CLI_PATH + "'";
+    CHECK(std::system((cli + " render '" + kScene + "' --png '" + png + "' --time 0.5 --steps 20 --size 64x48 >/dev/null")
+                          .c_str()) == 0);
+    CHECK(std::filesystem::file_size(png) > 100);
+    CHECK(std::system((cli + " render '" + kScene + "' --png '" + png + "' --size 10x10 2>/dev/null").c_str()) != 0);
+    CHECK(std::system((cli + " deform '" + kScene + "' --out '" + mesh + "' --report '" + report +
+                       "' --steps 20 --backend gpu >/dev/null")
+                          .c_str()) == 0);
+    std::ifstream in(report);
+    const nlohmann::json json = nlohmann::json::parse(in);
+    CHECK(json["backend"] == "gpu");
+    CHECK(!json["gl_renderer"].get<std::string>().empty());
+    CHECK(json["steps"] == 20);
+    std::filesystem::remove_all(dir);
+}
