@@ -1,7 +1,9 @@
 // The paper-figure scenes of assets/scenes/ run as `vfsd deform` runs them, and
 // keep the promises of sec. 7: the outer region does not move, the inner region
 // moves rigidly, nothing folds, and the volume error stays below the paper's
-// figure for the same model (sec. 7.1).
+// figure for the same model (sec. 7.1) where the paper gives one. Scenes on
+// CGAL's meshes (assets/cgal, fetched by scripts/get-cgal-meshes, not in the
+// repository) are skipped with a warning when the mesh file is absent.
 #include <catch2/catch.hpp>
 
 #include <filesystem>
@@ -30,6 +32,22 @@ std::vector<std::string> scene_files() {
     return files;
 }
 
+// The scene's mesh file, or "" for a built-in mesh.
+std::filesystem::path scene_mesh_file(const std::string& path) {
+    const std::string mesh = nlohmann::json::parse(std::ifstream(path)).at("mesh").get<std::string>();
+    if (mesh.rfind("builtin:", 0) == 0) return {};
+    return std::filesystem::path(path).parent_path() / mesh;
+}
+
+// False, with a warning, when the scene's mesh file is missing.
+bool scene_available(const std::string& path) {
+    const std::filesystem::path mesh = scene_mesh_file(path);
+    if (mesh.empty() || std::filesystem::exists(mesh)) return true;
+    WARN("skipped " << std::filesystem::path(path).filename().string() << ": " << mesh.lexically_normal().string()
+                    << " is absent (run scripts/get-cgal-meshes)");
+    return false;
+}
+
 SceneResult run_scene(const std::string& path) {
     const PreparedScene prepared = prepare_scene(load_scene(path));
     Deformation deformation = prepared.start_deformation();
@@ -46,7 +64,8 @@ void check_paper_figures(const SceneResult& r) {
     INFO(r.name << ": volume error " << r.quality.volume_error_percent << "%, " << r.quality.flipped_triangles
                 << " flipped triangles");
     CHECK(r.quality.flipped_triangles == 0);
-    CHECK(r.quality.volume_error_percent < r.paper.at("volume_error_percent").get<double>());
+    if (r.paper.contains("volume_error_percent"))
+        CHECK(r.quality.volume_error_percent < r.paper.at("volume_error_percent").get<double>());
 }
 
 }  // namespace
@@ -55,6 +74,7 @@ TEST_CASE("paper-figure scenes keep the outer region and move the inner one rigi
     const auto files = scene_files();
     REQUIRE(files.size() >= 5);
     for (const std::string& file : files) {
+        if (!scene_available(file)) continue;
         const SceneResult r = run_scene(file);
         INFO(r.name);
         CHECK(r.quality.outer_vertices > 0);
@@ -69,7 +89,8 @@ TEST_CASE("paper-figure scenes keep the outer region and move the inner one rigi
 // Scenes marked "known_failure" are measured and reported, not yet held to the figures.
 TEST_CASE("paper-figure scenes with a known failure", "[scenes][!mayfail]") {
     for (const std::string& file : scene_files()) {
-        const SceneResult r = run_scene(file);
-        if (r.paper.contains("known_failure")) check_paper_figures(r);
+        const nlohmann::json paper = nlohmann::json::parse(std::ifstream(file)).value("paper", nlohmann::json::object());
+        if (!paper.contains("known_failure") || !scene_available(file)) continue;
+        check_paper_figures(run_scene(file));
     }
 }
