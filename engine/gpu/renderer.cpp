@@ -105,13 +105,7 @@ Renderer::Renderer(const std::vector<Triangle>& triangles, InnerMotion motion)
     triangle_indices_ = Buffer(GL_ELEMENT_ARRAY_BUFFER, triangles.data(), triangles.size() * sizeof(Triangle));
     const std::vector<std::uint32_t> edges = edge_indices(triangles);
     edge_index_count_ = static_cast<GLsizei>(edges.size());
-    // The curve, sampled.
-    std::vector<Vec3> curve;
-    for (int i = 0; i <= kCurveSamples; ++i) curve.push_back(motion_.curve().at(double(i) / kCurveSamples).position);
-    curve_point_count_ = static_cast<GLsizei>(curve.size());
-    const std::vector<glm::vec3> curve_f = to_float(curve);
-    curve_points_ = Buffer(GL_ARRAY_BUFFER, curve_f.data(), curve_f.size() * sizeof(glm::vec3));
-    bind_points(curve_vao_, curve_points_, nullptr);
+    upload_curve();
     // A unit icosphere for the time markers.
     const TriangleMesh sphere = make_builtin_mesh("sphere", 2);
     const std::vector<glm::vec3> sphere_f = to_float(sphere.positions);
@@ -124,10 +118,32 @@ Renderer::Renderer(const std::vector<Triangle>& triangles, InnerMotion motion)
     check_gl("setting up the renderer");
 }
 
+void Renderer::upload_curve() {
+    // The curve, sampled.
+    std::vector<Vec3> curve;
+    if (!motion_.is_fixed_rotation())
+        for (int i = 0; i <= kCurveSamples; ++i) curve.push_back(motion_.curve().at(double(i) / kCurveSamples).position);
+    curve_point_count_ = static_cast<GLsizei>(curve.size());
+    const std::vector<glm::vec3> curve_f = to_float(curve);
+    curve_points_ = Buffer(GL_ARRAY_BUFFER, curve_f.data(), curve_f.size() * sizeof(glm::vec3));
+    bind_points(curve_vao_, curve_points_, nullptr);
+}
+
+void Renderer::set_motion(InnerMotion motion) {
+    motion_ = std::move(motion);
+    upload_curve();
+    check_gl("updating the curve");
+}
+
 void Renderer::draw(const Texture& vertex_texture, const Camera& camera, int width, int height,
                     const RenderOptions& options) const {
     float view[16], projection[16];
     camera.matrices(double(width) / double(height), view, projection);
+    draw(vertex_texture, view, projection, 0.035 * camera.radius, width, height, options);
+}
+
+void Renderer::draw(const Texture& vertex_texture, const float view[16], const float projection[16],
+                    double marker_radius, int width, int height, const RenderOptions& options) const {
     glViewport(0, 0, width, height);
     glClearColor(0.94f, 0.94f, 0.95f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -167,7 +183,7 @@ void Renderer::draw(const Texture& vertex_texture, const Camera& camera, int wid
         curve_vao_.bind();
         glDrawArrays(GL_LINE_STRIP, 0, curve_point_count_);
     }
-    const float marker = float(0.035 * camera.radius);
+    const float marker = float(marker_radius);
     solid_program_.set("u_lit", 1);
     sphere_vao_.bind();
     for (const auto& [time, grey] : {std::pair{options.target_time, 0.15f}, std::pair{options.current_time, 1.0f}}) {

@@ -46,8 +46,17 @@ public:
     // Draws into the bound framebuffer (viewport width x height), clearing it first.
     void draw(const Texture& vertex_texture, const Camera& camera, int width, int height,
               const RenderOptions& options) const;
+    // The same with the caller's column-major view and projection matrices (an
+    // editor's camera) and the radius of the time spheres in scene units.
+    void draw(const Texture& vertex_texture, const float view[16], const float projection[16], double marker_radius,
+              int width, int height, const RenderOptions& options) const;
+    // Draws this motion's curve and time spheres from now on (an edited curve),
+    // keeping the mesh's buffers.
+    void set_motion(InnerMotion motion);
 
 private:
+    void upload_curve();
+
     InnerMotion motion_;
     Program mesh_program_, solid_program_;
     Buffer triangle_indices_, edge_indices_, curve_points_, sphere_points_, sphere_indices_;

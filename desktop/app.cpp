@@ -1,0 +1,330 @@
+#include "desktop/app.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <glm/gtc/type_ptr.hpp>
+#include <imgui.h>
+
+#include "editor/gpu_live_deformation.h"
+#include "gpu/capabilities.h"
+#include "gpu/context.h"
+#include "gpu/gl.h"
+
+namespace vfsd::desktop {
+namespace {
+
+// The window's context as the GPU path sees it.
+class GlfwContext final : public gpu::Context {
+public:
+    explicit GlfwContext(GLFWwindow* window) : window_(window) {}
+    void make_current() override { glfwMakeContextCurrent(window_); }
+    std::string kind() const override { return "glfw"; }
+
+private:
+    GLFWwindow* window_;
+};
+
+// Per frame the deformation may take about this long, so the UI stays responsive.
+constexpr double kStepBudgetMs = 15.0;
+
+}  // namespace
+
+App::App(const AppOptions& options) : options_(options) {
+    glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "GLFW error %d: %s\n", code, text); });
+    if (!glfwInit()) throw std::runtime_error("cannot initialise GLFW (no display? set DISPLAY or use xvfb-run)");
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_SAMPLES, 4);
+    window_ = glfwCreateWindow(options.width, options.height, "vfsd", nullptr, nullptr);
+    if (!window_) {
+        glfwTerminate();
+        throw std::runtime_error("cannot open a window with an OpenGL 3.3 core context");
+    }
+    glfwMakeContextCurrent(window_);
+    glfwSwapInterval(options.script.empty() ? 1 : 0);
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
+        if (count > 0) static_cast<App*>(glfwGetWindowUserPointer(w))->on_drop(paths[0]);
+    });
+
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;
+    ImGui::StyleColorsLight();
+    ImGui_ImplGlfw_InitForOpenGL(window_, true);
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+
+    // The GPU path runs in this window's context when it can, else the CPU path.
+    GlfwContext context(window_);
+    std::string reason;
+    editor::DeformationFactory gpu;
+    if (options.backend == "cpu") {
+        reason = "--backend cpu";
+    } else {
+        try {
+            gpu::require_gpu_support(gpu::query_capabilities());
+            gpu = editor::make_gpu_deformation;
+        } catch (const std::exception& e) {
+            reason = e.what();
+        }
+    }
+    session_ = std::make_unique<editor::EditorSession>(gpu, reason);
+    log(std::string("GL: ") + context.renderer() + (gpu ? " (GPU path)" : " (CPU path: " + reason + ")"));
+
+    // The starting document: the mesh or scene asked for, else the default scene.
+    const std::string first = !options.mesh.empty() ? options.mesh : options.scene;
+    if (!first.empty()) open(first);
+    if (session_->triangles().empty()) {
+        try {
+            session_->open_scene_file(VFSD_DEFAULT_SCENE);
+        } catch (const std::exception&) {
+            session_->open_mesh("builtin:box");
+        }
+        tools_.adapt_to(*session_);
+        loaded();
+    }
+    if (!options.script.empty()) script_ = std::make_unique<editor::ScriptRunner>(editor::load_script(options.script));
+}
+
+App::~App() {
+    renderer_.reset();
+    cpu_vertices_.reset();
+    session_.reset();  // GPU objects die while the context lives
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    glfwDestroyWindow(window_);
+    glfwTerminate();
+}
+
+editor::Viewport App::viewport() const {
+    int w = 1, h = 1;
+    glfwGetFramebufferSize(window_, &w, &h);
+    return {std::max(w, 1), std::max(h, 1)};
+}
+
+void App::log(const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); }
+
+void App::loaded() {
+    // Frame the mesh and the whole curve, as `vfsd render` does.
+    camera_ = editor::Camera();
+    camera_.frame(gpu::deformation_frame_points(session_->base_positions(), session_->s(), session_->motion()),
+                  viewport().aspect());
+}
+
+void App::remember(const std::string& path) {
+    recent_.erase(std::remove(recent_.begin(), recent_.end(), path), recent_.end());
+    recent_.push_front(path);
+    if (recent_.size() > 8) recent_.pop_back();
+}
+
+void App::open(const std::string& path) {
+    // A failed load leaves the current document as it was and says why.
+    try {
+        session_->open(path);
+        tools_.adapt_to(*session_);
+        loaded();
+        remember(path);
+        load_error_.clear();
+        status_ = "opened " + path;
+    } catch (const std::exception& e) {
+        load_error_ = e.what();
+        log("open failed: " + load_error_);
+    }
+}
+
+void App::on_drop(const std::string& path) { open(path); }
+
+void App::screenshot(const std::string& path, bool ui) { pending_screenshot_ = std::make_pair(path, ui); }
+
+void App::save_screenshot(const std::string& path) const {
+    const editor::Viewport v = viewport();
+    std::vector<std::uint8_t> pixels(std::size_t(v.width) * v.height * 4), flipped(pixels.size());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadBuffer(GL_BACK);
+    glReadPixels(0, 0, v.width, v.height, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+    const std::size_t row = std::size_t(v.width) * 4;
+    for (int y = 0; y < v.height; ++y)
+        std::copy_n(&pixels[std::size_t(v.height - 1 - y) * row], row, &flipped[std::size_t(y) * row]);
+    for (std::size_t i = 3; i < flipped.size(); i += 4) flipped[i] = 255;
+    gpu::write_png(path, v.width, v.height, flipped);
+}
+
+void App::handle_input() {
+    ImGuiIO& io = ImGui::GetIO();
+    const editor::Viewport v = viewport();
+    int window_w = 1, window_h = 1;
+    glfwGetWindowSize(window_, &window_w, &window_h);
+    // Pointer in framebuffer pixels (they differ from window units on HiDPI screens).
+    const double x = io.MousePos.x * v.width / std::max(window_w, 1), y = io.MousePos.y * v.height / std::max(window_h, 1);
+    const double dx = x - last_x_, dy = y - last_y_;
+    last_x_ = x, last_y_ = y;
+    if (drag_ == Drag::none && !io.WantCaptureMouse) {
+        if (io.MouseWheel != 0.0f) camera_.zoom(std::pow(0.85, io.MouseWheel), x, y, v);
+        if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+            if (io.KeyShift) drag_ = Drag::pan;
+            else if (tools_.press(*session_, camera_, v, x, y)) drag_ = Drag::tool;
+            else drag_ = Drag::orbit;
+        } else if (ImGui::IsMouseClicked(ImGuiMouseButton_Right) || ImGui::IsMouseClicked(ImGuiMouseButton_Middle)) {
+            drag_ = Drag::pan;
+        }
+        return;
+    }
+    const bool held = ImGui::IsMouseDown(ImGuiMouseButton_Left) || ImGui::IsMouseDown(ImGuiMouseButton_Right) ||
+                      ImGui::IsMouseDown(ImGuiMouseButton_Middle);
+    if (!held) {
+        if (drag_ == Drag::tool) tools_.release(*session_);
+        drag_ = Drag::none;
+        return;
+    }
+    if (dx == 0.0 && dy == 0.0) return;
+    switch (drag_) {
+        case Drag::tool: tools_.drag(*session_, camera_, v, x, y); break;
+        case Drag::orbit: camera_.orbit(dx, dy); break;
+        case Drag::pan: camera_.pan(dx, dy, v); break;
+        case Drag::none: break;
+    }
+}
+
+void App::draw_scene() {
+    const editor::Viewport v = viewport();
+    // The renderer follows the mesh and the curve; the CPU path's positions are uploaded on change.
+    if (!renderer_ || drawn_mesh_ != session_->mesh_revision()) {
+        renderer_ = std::make_unique<gpu::Renderer>(session_->triangles(), session_->motion());
+        drawn_mesh_ = session_->mesh_revision();
+        drawn_curve_ = session_->curve_revision();
+        drawn_revision_ = 0;
+    }
+    if (drawn_curve_ != session_->curve_revision()) {
+        renderer_->set_motion(session_->motion());
+        drawn_curve_ = session_->curve_revision();
+    }
+    const auto* on_gpu = dynamic_cast<const editor::GpuLiveDeformation*>(session_->deformation());
+    if (!on_gpu && drawn_revision_ != session_->revision()) {
+        cpu_vertices_ = gpu::make_vertex_texture(session_->positions(), session_->s());
+        drawn_revision_ = session_->revision();
+    }
+    if (on_gpu) drawn_revision_ = 0;
+    camera_.scene_radius = std::max(camera_.scene_radius, 0.5 * session_->diagonal());
+    const glm::mat4 view(camera_.view()), projection(camera_.projection(v.aspect()));
+    gpu::RenderOptions render;
+    render.current_time = session_->time();
+    render.target_time = session_->target_time();
+    render.wireframe = wireframe_;
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glEnable(GL_MULTISAMPLE);
+    renderer_->draw(on_gpu ? on_gpu->vertex_texture() : *cpu_vertices_, glm::value_ptr(view),
+                    glm::value_ptr(projection), 0.018 * session_->diagonal(), v.width, v.height, render);
+}
+
+void App::draw_overlay() {
+    // Control points and polygon, the handle, loops, the brush: 2D over the scene.
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
+    const editor::Viewport v = viewport();
+    const float scale = float(ImGui::GetIO().DisplaySize.x / v.width);
+    const auto screen = [&](const Vec3& p, bool& visible) {
+        const glm::dvec3 s = camera_.project(p, v);
+        visible = s.z <= 1.0;
+        return ImVec2(float(s.x) * scale, float(s.y) * scale);
+    };
+    bool visible = false;
+    const std::vector<Vec3> points = session_->control_points();
+    const bool handle = session_->curve().curve.is_handle;
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+        if (!handle && i % 3 == 1) continue;  // polygon legs: 0-1 and 2-3 of each segment
+        bool a = false, b = false;
+        const ImVec2 p = screen(points[i], a), q = screen(points[i + 1], b);
+        if (a && b) draw->AddLine(p, q, IM_COL32(90, 90, 110, 200), 1.5f);
+    }
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    const auto hovered = tools_.tool == editor::Tool::navigate
+                             ? tools_.hovered_point(*session_, camera_, v, mouse.x / scale, mouse.y / scale)
+                             : std::nullopt;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const ImVec2 p = screen(points[i], visible);
+        if (!visible) continue;
+        const bool hot = hovered == i || tools_.dragged_point() == i;
+        const bool knot = handle || i % 3 == 0;
+        const ImU32 fill = hot ? IM_COL32(255, 200, 40, 255) : knot ? IM_COL32(30, 30, 30, 255) : IM_COL32(250, 250, 250, 255);
+        draw->AddCircleFilled(p, hot ? 7.0f : 5.0f, fill);
+        draw->AddCircle(p, hot ? 7.0f : 5.0f, IM_COL32(20, 20, 20, 255), 0, 1.5f);
+    }
+    // Loops in progress.
+    for (const auto* loop : {&tools_.loop_in_progress()}) {
+        for (std::size_t i = 0; i < loop->size(); ++i) {
+            const ImVec2 p = screen(surface_position(session_->positions(), session_->triangles(), (*loop)[i]), visible);
+            draw->AddCircleFilled(p, 3.5f, IM_COL32(250, 230, 60, 255));
+        }
+    }
+    for (const SurfaceLoop& loop : tools_.loops())
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+            bool a = false, b = false;
+            const ImVec2 p = screen(surface_position(session_->positions(), session_->triangles(), loop[i]), a);
+            const ImVec2 q = screen(surface_position(session_->positions(), session_->triangles(), loop[(i + 1) % loop.size()]), b);
+            draw->AddLine(p, q, IM_COL32(250, 230, 60, 255), 2.0f);
+        }
+    // The brush outline under the pointer.
+    const bool brush = tools_.tool == editor::Tool::paint_inner || tools_.tool == editor::Tool::paint_outer ||
+                       tools_.tool == editor::Tool::erase || tools_.tool == editor::Tool::paint_s;
+    if (brush && !ImGui::GetIO().WantCaptureMouse) {
+        const auto hit = editor::pick_surface(camera_.ray(mouse.x / scale, mouse.y / scale, v), session_->positions(),
+                                              session_->triangles());
+        if (hit) {
+            bool a = false, b = false;
+            const ImVec2 c = screen(hit->position, a);
+            const ImVec2 r = screen(hit->position + tools_.brush.radius * camera_.right(), b);
+            draw->AddCircle(c, std::hypot(r.x - c.x, r.y - c.y), IM_COL32(255, 255, 255, 230), 48, 2.0f);
+        }
+    }
+}
+
+int App::run() {
+    while (!glfwWindowShouldClose(window_)) {
+        glfwPollEvents();
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+
+        handle_input();
+        handle_shortcuts();
+        if (script_ && !script_->done()) {
+            script_->run_frame(*session_, tools_, camera_, viewport(), *this);
+            if (script_->done()) {
+                log(script_->failed() ? "script failed: " + script_->error() : "script: done");
+                if (options_.exit_after_script && !pending_screenshot_) break;
+            }
+        }
+        // Integrate toward the target within the frame's budget.
+        const double ms = std::max(session_->stats().ms_per_step, 0.05);
+        session_->update(std::clamp(int(kStepBudgetMs / ms), 1, 250));
+
+        draw_panels();
+        draw_overlay();
+        ImGui::Render();
+        draw_scene();
+        const bool ui = !pending_screenshot_ || pending_screenshot_->second;
+        if (ui && show_ui_) ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        if (pending_screenshot_) {
+            try {
+                save_screenshot(pending_screenshot_->first);
+                status_ = "saved " + pending_screenshot_->first;
+            } catch (const std::exception& e) {
+                status_ = e.what();
+                log(status_);
+            }
+            pending_screenshot_.reset();
+            if (script_ && script_->done() && options_.exit_after_script) break;
+        }
+        glfwSwapBuffers(window_);
+    }
+    return script_ && script_->failed() ? 1 : 0;
+}
+
+}  // namespace vfsd::desktop

@@ -1,0 +1,81 @@
+#pragma once
+// The desktop editor's window: GLFW, Dear ImGui and the engine's renderer around
+// the editor core (engine/editor). Everything a user can do goes through
+// EditorSession and ToolController; this shell only turns events into their calls
+// and draws panels.
+
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "editor/camera.h"
+#include "editor/script.h"
+#include "editor/session.h"
+#include "editor/tools.h"
+#include "gpu/renderer.h"
+
+struct GLFWwindow;
+
+namespace vfsd::desktop {
+
+struct AppOptions {
+    std::string scene;   // --scene FILE
+    std::string script;  // --script FILE
+    std::string mesh;    // MESH
+    std::string backend = "auto";  // --backend auto|cpu
+    bool exit_after_script = false;
+    int width = 1280, height = 800;
+};
+
+class App final : public editor::ScriptHost {
+public:
+    explicit App(const AppOptions& options);
+    ~App() override;
+    // The main loop; returns the exit code (1 when the script failed).
+    int run();
+
+    // ScriptHost
+    void screenshot(const std::string& path, bool ui) override;
+    void loaded() override;
+    void log(const std::string& line) override;
+
+    // Called by GLFW's callbacks.
+    void on_drop(const std::string& path);
+
+private:
+    friend struct Panels;
+    void open(const std::string& path);
+    void handle_input();
+    void handle_shortcuts();
+    void draw_scene();
+    void draw_overlay();
+    void draw_panels();
+    void save_screenshot(const std::string& path) const;
+    editor::Viewport viewport() const;
+    void remember(const std::string& path);
+
+    AppOptions options_;
+    GLFWwindow* window_ = nullptr;
+    std::unique_ptr<editor::EditorSession> session_;
+    editor::ToolController tools_;
+    editor::Camera camera_;
+    std::unique_ptr<gpu::Renderer> renderer_;
+    std::optional<gpu::Texture> cpu_vertices_;
+    std::uint64_t drawn_mesh_ = 0, drawn_curve_ = 0, drawn_revision_ = 0;
+    std::unique_ptr<editor::ScriptRunner> script_;
+
+    // Pointer state: a tool action or a camera drag (orbit / pan).
+    enum class Drag { none, tool, orbit, pan } drag_ = Drag::none;
+    double last_x_ = 0.0, last_y_ = 0.0;
+
+    // Panels' state.
+    bool show_help_ = false, show_ui_ = true, wireframe_ = false;
+    char path_field_[1024] = "";
+    char output_field_[1024] = "vfsd-out";
+    std::deque<std::string> recent_;
+    std::string status_, load_error_;
+    std::optional<std::pair<std::string, bool>> pending_screenshot_;
+};
+
+}  // namespace vfsd::desktop

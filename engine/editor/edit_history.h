@@ -1,0 +1,83 @@
+#pragma once
+// Undo and redo for the editor. Every change a user makes is recorded as data,
+// the state before and after (or, for painting, the brush's RegionEdit), so
+// reverting and re-applying restore the state exactly. EditorSession applies them;
+// the history only orders them.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "region/brush.h"
+#include "scene/scene.h"
+
+namespace vfsd::editor {
+
+// What defines the region field s.
+struct RegionSource {
+    enum class Kind {
+        spec,    // a scene's region as stated (selectors, geodesic level, sphere tool, or a given field)
+        labels,  // the painted inner / outer labels (eq. 16), saved as vertex selectors
+        field,   // the directly painted s, saved as a field
+    };
+    Kind kind = Kind::spec;
+    RegionSpec spec;  // Kind::spec only
+};
+
+// The curve (or handle) and the motion settings of a scene.
+struct CurveSettings {
+    CurveSpec curve;
+    InnerMotionMode inner_motion = InnerMotionMode::Rotation;
+    double twist_degrees[2] = {0.0, 0.0};
+    std::optional<double> twist_plane;
+};
+
+bool operator==(const CurveSettings& a, const CurveSettings& b);
+
+// A region edit: the source before and after, and the painting that went with it
+// (possibly empty: a geodesic pick or a slider change only swaps the source).
+struct RegionChange {
+    RegionSource before, after;
+    RegionEdit paint;
+};
+
+struct CurveChange {
+    CurveSettings before, after;
+};
+
+// "Apply": the deformed positions become the base mesh; the region is kept as the
+// field it was, and the curve restarts where the old one ended.
+struct BakeChange {
+    std::vector<Vec3> before, after;
+    RegionSource region_before, region_after;
+    CurveSettings curve_before, curve_after;
+    bool baked_before = false;
+};
+
+using Edit = std::variant<RegionChange, CurveChange, BakeChange>;
+
+struct HistoryEntry {
+    std::string label;  // "paint inner", "move control point 2", ...
+    Edit edit;
+};
+
+class EditHistory {
+public:
+    // Records an edit that has been applied; clears the redo list.
+    void push(HistoryEntry entry);
+    // The entry to revert (moved to the redo list), or nullptr when there is none.
+    const HistoryEntry* undo();
+    // The entry to re-apply (moved back to the undo list), or nullptr.
+    const HistoryEntry* redo();
+    void clear();
+    std::size_t undo_count() const { return done_.size(); }
+    std::size_t redo_count() const { return undone_.size(); }
+    const HistoryEntry* last() const { return done_.empty() ? nullptr : &done_.back(); }
+
+private:
+    std::vector<HistoryEntry> done_, undone_;
+};
+
+}  // namespace vfsd::editor

@@ -1,0 +1,36 @@
+#pragma once
+// Picking: the surface point under a ray (ray–triangle intersection on the
+// positions the caller passes, normally the ones on screen: the deformation's
+// current positions), and the nearest of a few 3D points to a pixel (control
+// points, handles).
+
+#include <optional>
+#include <vector>
+
+#include "editor/camera.h"
+#include "region/surface_point.h"
+
+namespace vfsd::editor {
+
+struct SurfaceHit {
+    SurfacePoint point;     // triangle + barycentric coordinates
+    Vec3 position{0.0};     // where the ray meets the surface
+    double distance = 0.0;  // along the ray
+    std::uint32_t nearest_vertex = 0;  // the triangle's corner closest to the hit
+};
+
+// The first triangle the ray meets (either side faces it), if any.
+std::optional<SurfaceHit> pick_surface(const Ray& ray, const std::vector<Vec3>& positions,
+                                       const std::vector<Triangle>& triangles);
+
+// The index of the point whose projection lies nearest to pixel (x, y), within
+// `radius` pixels; points behind the eye are never picked.
+std::optional<std::size_t> pick_screen_point(const std::vector<Vec3>& points, double x, double y,
+                                             const Camera& camera, const Viewport& viewport, double radius = 10.0);
+
+// Where a point that started at `from` goes when dragged to pixel (x, y): in the
+// plane through `from` facing the camera, or along one axis (0 = x, 1 = y, 2 = z)
+// through `from` to the point of that line closest to the pixel's ray.
+Vec3 drag_point(const Vec3& from, double x, double y, const Camera& camera, const Viewport& viewport, int axis = -1);
+
+}  // namespace vfsd::editor

@@ -1,0 +1,572 @@
+#include "editor/session.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "base/error.h"
+#include "deform/quality.h"
+#include "mesh/geometry.h"
+#include "mesh/validation.h"
+#include "region/selectors.h"
+
+namespace vfsd::editor {
+namespace {
+
+// Live quality numbers need the positions (a GPU read-back): every step below
+// this many vertices, otherwise only when the deformation reaches its target.
+constexpr std::size_t kLiveStatsVertexLimit = 300000;
+
+Selector vertex_selector(const std::vector<std::uint8_t>& labels, RegionLabel label) {
+    Selector sel;
+    sel.kind = SelectorKind::vertices;
+    for (std::size_t v = 0; v < labels.size(); ++v)
+        if (labels[v] == static_cast<std::uint8_t>(label)) sel.vertices.push_back(static_cast<std::uint32_t>(v));
+    return sel;
+}
+
+// The edit that sets channel values to `next` (only the vertices that change).
+RegionEdit diff_edit(RegionChannel channel, const std::vector<double>& current, const std::vector<double>& next) {
+    RegionEdit edit;
+    edit.channel = channel;
+    for (std::size_t v = 0; v < current.size(); ++v)
+        if (current[v] != next[v]) {
+            edit.vertices.push_back(static_cast<std::uint32_t>(v));
+            edit.old_values.push_back(current[v]);
+            edit.new_values.push_back(next[v]);
+        }
+    return edit;
+}
+
+std::vector<double> labels_as_values(const RegionPaint& paint) {
+    return std::vector<double>(paint.labels.begin(), paint.labels.end());
+}
+
+// Folds `next` into `total` (either may be empty).
+void accumulate(RegionEdit& total, const RegionEdit& next) {
+    if (next.vertices.empty()) return;
+    if (total.vertices.empty()) {
+        total = next;
+        return;
+    }
+    merge_edit(total, next);
+}
+
+std::vector<std::string> mesh_warnings(const TriangleMesh& mesh) {
+    std::vector<std::string> out;
+    const ValidationReport report = validate_mesh(mesh);
+    if (!report.is_manifold)
+        for (const std::string& r : report.reasons) out.push_back("mesh: not a 2-manifold: " + r);
+    if (!report.is_closed)
+        out.push_back("mesh: has boundary edges; the volume error is measured against the origin");
+    return out;
+}
+
+CurveSettings settings_of(const Scene& scene) {
+    CurveSettings c;
+    c.curve = scene.curve;
+    c.inner_motion = scene.inner_motion;
+    c.twist_degrees[0] = scene.twist_degrees[0];
+    c.twist_degrees[1] = scene.twist_degrees[1];
+    c.twist_plane = scene.twist_plane;
+    return c;
+}
+
+Scene with_curve(Scene scene, const CurveSettings& c) {
+    scene.curve = c.curve;
+    scene.inner_motion = c.inner_motion;
+    scene.twist_degrees[0] = c.twist_degrees[0];
+    scene.twist_degrees[1] = c.twist_degrees[1];
+    scene.twist_plane = c.twist_plane;
+    return scene;
+}
+
+bool is_builtin(const std::string& mesh) { return mesh.rfind("builtin:", 0) == 0; }
+
+}  // namespace
+
+EditorSession::EditorSession(DeformationFactory gpu, std::string gpu_reason)
+    : gpu_(std::move(gpu)), gpu_reason_(std::move(gpu_reason)) {
+    stats_.backend = gpu_ ? "gpu" : "cpu";
+    stats_.backend_reason = gpu_ ? "" : gpu_reason_;
+}
+
+// ---- loading and saving --------------------------------------------------
+
+void EditorSession::open_scene_file(const std::string& path) { open_scene(load_scene(path)); }
+
+void EditorSession::open_scene(const Scene& scene) {
+    Document doc;
+    doc.file = load_mesh_file(scene.mesh);
+    doc.scene = scene;
+    doc.region.kind = RegionSource::Kind::spec;
+    doc.region.spec = scene.region;
+    doc.curve = settings_of(scene);
+    replace_document(std::move(doc));
+}
+
+void EditorSession::open_mesh(const std::string& spec) {
+    Document doc;
+    doc.file = load_mesh_file(spec);
+    const auto& p = doc.file.mesh.positions;
+    if (p.empty()) throw InputError(spec + ": the mesh has no vertices");
+    doc.scene.mesh = spec;
+    // A region around the highest vertex and a curve that lifts it and bends it over.
+    const double d = bounding_box(p).diagonal();
+    const auto top = static_cast<std::size_t>(
+        std::max_element(p.begin(), p.end(), [](const Vec3& a, const Vec3& b) { return a.z < b.z; }) - p.begin());
+    doc.region.spec.kind = RegionSpec::Kind::geodesic;
+    doc.region.spec.seed = p[top];
+    doc.region.spec.g_min = 0.1 * d;
+    doc.region.spec.g_max = 0.45 * d;
+    doc.scene.options.smoothing_steps = 40;  // as the paper-figure scenes: smoother blends
+    const Vec3 c0 = p[top];
+    doc.curve.curve.bezier = {c0, c0 + d * Vec3(0.0, 0.0, 0.12), c0 + d * Vec3(0.08, 0.0, 0.22),
+                              c0 + d * Vec3(0.25, 0.0, 0.25)};
+    replace_document(std::move(doc));
+}
+
+void EditorSession::open(const std::string& path) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    if (ext == ".json" || ext == ".JSON") open_scene_file(path);
+    else open_mesh(path);
+}
+
+void EditorSession::replace_document(Document doc) {
+    // Everything that can throw happens before the current document is touched.
+    doc.rings = build_vertex_rings(doc.file.mesh);
+    doc.paint = make_region_paint(doc.file.mesh.vertex_count());
+    doc.mesh_warnings = mesh_warnings(doc.file.mesh);
+    std::vector<std::string> region_warnings;
+    Region region = build_region(doc.region.spec, doc.file.mesh.positions, doc.rings, region_warnings);
+    InnerMotion motion = scene_motion(with_curve(doc.scene, doc.curve));
+    doc_ = std::move(doc);
+    motion_ = std::move(motion);
+    s_ = std::move(region.s);
+    region_warnings_ = std::move(region_warnings);
+    runtime_error_.clear();
+    history_.clear();
+    region_gesture_ = curve_gesture_ = false;
+    diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
+    if (!(diagonal_ > 0.0)) diagonal_ = 1.0;
+    base_volume_ = signed_volume(doc_.file.mesh.positions, doc_.file.mesh.triangles);
+    target_ = 0.0;
+    stats_.vertices = doc_.file.mesh.vertex_count();
+    stats_.triangles = doc_.file.mesh.triangle_count();
+    drop_deformation();
+    ++mesh_revision_, ++curve_revision_;
+    refresh_curve_warnings();
+}
+
+Scene EditorSession::current_scene() const {
+    Scene scene = with_curve(doc_.scene, doc_.curve);
+    scene.region = region_spec();
+    scene.target_time = target_;
+    return scene;
+}
+
+void EditorSession::save_scene(const std::string& path) const {
+    namespace fs = std::filesystem;
+    Scene scene = current_scene();
+    const fs::path dir = fs::absolute(path).parent_path();
+    if (doc_.baked) {
+        // The applied (baked) mesh exists only here: write it beside the scene.
+        const std::string name = fs::path(path).stem().string() + ".mesh.ply";
+        WriteOptions options;
+        options.double_positions = true;
+        options.write_scalar = false;
+        write_mesh_file((dir / name).string(), doc_.file.mesh, options);
+        scene.mesh = name;
+    } else if (!is_builtin(scene.mesh)) {
+        scene.mesh = fs::proximate(fs::absolute(scene.mesh), dir).string();
+    }
+    write_file_atomically(path, scene_to_json(scene).dump(2) + "\n");
+}
+
+void EditorSession::export_mesh(const std::string& path) const {
+    TriangleMesh result = doc_.file.mesh;
+    result.positions = positions();
+    result.scalar = s_;
+    write_mesh_file(path, doc_.baked ? result : to_file_layout(doc_.file, result));
+}
+
+// ---- region ----------------------------------------------------------------
+
+RegionSpec EditorSession::region_spec() const {
+    switch (doc_.region.kind) {
+        case RegionSource::Kind::spec: return doc_.region.spec;
+        case RegionSource::Kind::labels: {
+            RegionSpec spec;
+            spec.kind = RegionSpec::Kind::painted;
+            const Selector inner = vertex_selector(doc_.paint.labels, RegionLabel::inner);
+            const Selector outer = vertex_selector(doc_.paint.labels, RegionLabel::outer);
+            if (!inner.vertices.empty()) spec.inner.push_back(inner);
+            if (!outer.vertices.empty()) spec.outer.push_back(outer);
+            return spec;
+        }
+        case RegionSource::Kind::field: {
+            RegionSpec spec;
+            spec.kind = RegionSpec::Kind::field;
+            spec.s = doc_.paint.s;
+            return spec;
+        }
+    }
+    return doc_.region.spec;
+}
+
+void EditorSession::region_changed() {
+    std::vector<std::string> warnings;
+    s_ = build_region(region_spec(), doc_.file.mesh.positions, doc_.rings, warnings).s;
+    region_warnings_ = std::move(warnings);
+    drop_deformation();
+    refresh_curve_warnings();
+}
+
+void EditorSession::set_region(const RegionSource& next, const RegionEdit& paint, const std::string& label) {
+    const RegionSource before = doc_.region;
+    doc_.region = next;
+    ::vfsd::apply_edit(doc_.paint, paint);
+    try {
+        region_changed();
+    } catch (...) {
+        ::vfsd::revert_edit(doc_.paint, paint);
+        doc_.region = before;
+        region_changed();
+        throw;
+    }
+    if (region_gesture_) {
+        accumulate(pending_region_.paint, paint);
+        region_gesture_changed_ = true;
+    } else {
+        history_.push({label, RegionChange{before, doc_.region, paint}});
+    }
+}
+
+void EditorSession::begin_region_gesture() {
+    region_gesture_ = true;
+    region_gesture_changed_ = false;
+    pending_region_ = RegionChange{doc_.region, {}, {}};
+}
+
+void EditorSession::end_region_gesture(const std::string& label) {
+    if (!region_gesture_) return;
+    region_gesture_ = false;
+    if (!region_gesture_changed_) return;
+    pending_region_.after = doc_.region;
+    history_.push({label, std::move(pending_region_)});
+}
+
+void EditorSession::pick_geodesic(std::uint32_t vertex, double g_min, double g_max) {
+    if (vertex >= doc_.file.mesh.vertex_count()) throw InputError("geodesic pick: vertex out of range");
+    RegionSource next;
+    next.spec.kind = RegionSpec::Kind::geodesic;
+    next.spec.seed = doc_.file.mesh.positions[vertex];
+    next.spec.g_min = g_min;
+    next.spec.g_max = g_max;
+    set_region(next, {}, "geodesic region");
+}
+
+void EditorSession::set_geodesic_range(double g_min, double g_max) {
+    if (doc_.region.kind != RegionSource::Kind::spec || doc_.region.spec.kind != RegionSpec::Kind::geodesic) return;
+    RegionSource next = doc_.region;
+    next.spec.g_min = g_min;
+    next.spec.g_max = g_max;
+    set_region(next, {}, "geodesic range");
+}
+
+void EditorSession::brush(const SurfacePoint& centre, const BrushSettings& b) {
+    RegionEdit total;
+    RegionSource next = doc_.region;
+    RegionPaint paint = doc_.paint;
+    // Painting starts from the region on screen: labels (or s) taken from s.
+    if (b.tool == BrushTool::paint_s && next.kind != RegionSource::Kind::field) {
+        total = diff_edit(RegionChannel::s, paint.s, s_);
+        next.kind = RegionSource::Kind::field;
+    } else if (b.tool != BrushTool::paint_s && next.kind != RegionSource::Kind::labels) {
+        std::vector<double> labels(s_.size());
+        for (std::size_t v = 0; v < s_.size(); ++v)
+            labels[v] = s_[v] <= 0.0 ? double(RegionLabel::inner) : s_[v] >= 1.0 ? double(RegionLabel::outer) : 0.0;
+        total = diff_edit(RegionChannel::labels, labels_as_values(paint), labels);
+        next.kind = RegionSource::Kind::labels;
+    }
+    ::vfsd::apply_edit(paint, total);
+    const auto& mesh = doc_.file.mesh;
+    RegionEdit dab;
+    if (b.tool == BrushTool::paint_s) {
+        dab = field_brush(paint, mesh.positions, mesh.triangles, doc_.rings, centre, b.radius, b.s_target, b.strength);
+    } else {
+        const LabelBrush mode = b.tool == BrushTool::paint_inner   ? LabelBrush::paint_inner
+                                : b.tool == BrushTool::paint_outer ? LabelBrush::paint_outer
+                                                                   : LabelBrush::erase;
+        dab = label_brush(paint, mesh.positions, mesh.triangles, doc_.rings, centre, b.radius, mode);
+    }
+    accumulate(total, dab);
+    next.spec = RegionSpec{};
+    static const char* names[] = {"paint inner", "paint outer", "erase", "paint s"};
+    set_region(next, total, names[int(b.tool)]);
+}
+
+void EditorSession::set_region_from_loops(const SurfaceLoop& inner, const SurfaceLoop& outer,
+                                          const SurfacePoint& seed) {
+    const auto& mesh = doc_.file.mesh;
+    const LoopRegions regions = regions_from_loops(mesh.positions, mesh.triangles, doc_.rings, inner, outer, seed);
+    std::vector<double> labels(mesh.vertex_count(), 0.0);
+    for (std::size_t v = 0; v < labels.size(); ++v)
+        labels[v] = regions.inner[v] ? double(RegionLabel::inner) : regions.outer[v] ? double(RegionLabel::outer) : 0.0;
+    RegionSource next;
+    next.kind = RegionSource::Kind::labels;
+    set_region(next, diff_edit(RegionChannel::labels, labels_as_values(doc_.paint), labels), "region from loops");
+}
+
+// ---- curve -----------------------------------------------------------------
+
+void EditorSession::curve_changed() {
+    motion_ = scene_motion(with_curve(doc_.scene, doc_.curve));
+    drop_deformation();
+    ++curve_revision_;
+    refresh_curve_warnings();
+}
+
+void EditorSession::set_curve(const CurveSettings& settings) {
+    if (settings == doc_.curve) return;
+    scene_motion(with_curve(doc_.scene, settings));  // throws InputError for an invalid curve, before any change
+    const CurveSettings before = doc_.curve;
+    doc_.curve = settings;
+    curve_changed();
+    if (curve_gesture_) curve_gesture_changed_ = true;
+    else history_.push({"edit curve", CurveChange{before, doc_.curve}});
+}
+
+void EditorSession::begin_curve_gesture() {
+    curve_gesture_ = true;
+    curve_gesture_changed_ = false;
+    pending_curve_ = doc_.curve;
+}
+
+void EditorSession::end_curve_gesture(const std::string& label) {
+    if (!curve_gesture_) return;
+    curve_gesture_ = false;
+    if (curve_gesture_changed_ && !(pending_curve_ == doc_.curve))
+        history_.push({label, CurveChange{pending_curve_, doc_.curve}});
+}
+
+std::vector<Vec3> EditorSession::control_points() const {
+    const CurveSpec& c = doc_.curve.curve;
+    if (c.is_handle) return {c.from.position, c.to.position};
+    return c.bezier;
+}
+
+void EditorSession::move_control_point(std::size_t index, const Vec3& position) {
+    CurveSettings next = doc_.curve;
+    if (next.curve.is_handle) {
+        if (index == 0) next.curve.from.position = position;
+        else if (index == 1) next.curve.to.position = position;
+        else throw InputError("handle mode has two points (0: from, 1: to)");
+    } else {
+        if (index >= next.curve.bezier.size())
+            throw InputError("control point " + std::to_string(index) + " does not exist (the curve has " +
+                             std::to_string(next.curve.bezier.size()) + ")");
+        next.curve.bezier[index] = position;
+    }
+    set_curve(next);
+}
+
+void EditorSession::add_segment() {
+    CurveSettings next = doc_.curve;
+    auto& b = next.curve.bezier;
+    if (next.curve.is_handle || b.size() < 4) return;
+    // Continue along the last tangent, so the join is C1.
+    Vec3 d = b.back() - b[b.size() - 2];
+    if (glm::length(d) == 0.0) d = Vec3(0.0, 0.0, 0.05 * diagonal_);
+    const Vec3 last = b.back();
+    for (int k = 1; k <= 3; ++k) b.push_back(last + double(k) * d);
+    set_curve(next);
+}
+
+void EditorSession::remove_segment() {
+    CurveSettings next = doc_.curve;
+    if (next.curve.is_handle || next.curve.bezier.size() < 7) return;
+    next.curve.bezier.resize(next.curve.bezier.size() - 3);
+    set_curve(next);
+}
+
+void EditorSession::use_handle(const HandleFrame& from, const HandleFrame& to) {
+    CurveSettings next = doc_.curve;
+    next.curve.is_handle = true;
+    next.curve.from = from;
+    next.curve.to = to;
+    set_curve(next);
+}
+
+void EditorSession::refresh_curve_warnings() {
+    curve_warnings_.clear();
+    if (motion_.is_fixed_rotation() || s_.empty()) return;
+    if (motion_.curve().polygon_length() == 0.0) {
+        curve_warnings_.push_back("curve: all control points coincide, so nothing moves");
+        return;
+    }
+    const std::uint32_t v = nearest_vertex(doc_.file.mesh.positions, motion_.curve().at(0.0).position);
+    if (s_[v] > 0.0) curve_warnings_.push_back("curve: c(0) does not start in the inner region (s = " +
+                                               std::to_string(s_[v]) + " at the nearest vertex)");
+}
+
+// ---- time --------------------------------------------------------------------
+
+double EditorSession::time() const { return deformation_ ? deformation_->time() : 0.0; }
+
+void EditorSession::set_target_time(double t) { target_ = std::clamp(t, 0.0, 1.0); }
+
+void EditorSession::play() {
+    if (time() >= 1.0) reset();
+    target_ = 1.0;
+}
+
+void EditorSession::pause() { target_ = time(); }
+
+void EditorSession::reset() {
+    drop_deformation();
+    target_ = 0.0;
+}
+
+void EditorSession::set_force_cpu(bool cpu) {
+    if (cpu == force_cpu_) return;
+    force_cpu_ = cpu;
+    drop_deformation();
+}
+
+void EditorSession::drop_deformation() {
+    deformation_.reset();
+    prepared_.reset();
+    stats_.ms_per_step = 0.0;
+    stats_.volume_error_percent = 0.0;
+    stats_.flipped_triangles = 0;
+    ++revision_;
+}
+
+void EditorSession::ensure_deformation() {
+    if (deformation_) return;
+    prepared_ = std::make_unique<PreparedScene>(prepare_scene(current_scene(), doc_.file));
+    std::string reason = force_cpu_ ? "CPU chosen" : gpu_reason_;
+    if (gpu_ && !force_cpu_) {
+        try {
+            deformation_ = gpu_(*prepared_);
+        } catch (const std::exception& e) {
+            reason = e.what();
+        }
+    }
+    if (!deformation_) deformation_ = make_cpu_deformation(*prepared_);
+    stats_.backend = deformation_->backend();
+    stats_.backend_reason = stats_.backend == "gpu" ? "" : reason;
+}
+
+int EditorSession::update(int max_steps) {
+    if (time() == target_) return 0;
+    int taken = 0;
+    try {
+        ensure_deformation();
+        taken = deformation_->advance(target_, max_steps);
+        if (taken > 0) {
+            ++revision_;
+            update_stats();
+        }
+    } catch (const std::exception& e) {
+        runtime_error_ = std::string("deformation stopped: ") + e.what();
+        target_ = time();
+    }
+    return taken;
+}
+
+void EditorSession::update_stats() {
+    stats_.ms_per_step = deformation_->ms_per_step();
+    if (doc_.file.mesh.vertex_count() > kLiveStatsVertexLimit && moving()) return;
+    const auto& now = deformation_->positions();
+    const auto& mesh = doc_.file.mesh;
+    const double volume = signed_volume(now, mesh.triangles);
+    stats_.volume_error_percent = base_volume_ != 0.0 ? 100.0 * std::abs(volume - base_volume_) / std::abs(base_volume_) : 0.0;
+    stats_.flipped_triangles = count_flipped_triangles(mesh.positions, now, mesh.triangles);
+}
+
+const std::vector<Vec3>& EditorSession::positions() const {
+    return deformation_ ? deformation_->positions() : doc_.file.mesh.positions;
+}
+
+std::vector<std::string> EditorSession::warnings() const {
+    std::vector<std::string> out = doc_.mesh_warnings;
+    out.insert(out.end(), region_warnings_.begin(), region_warnings_.end());
+    out.insert(out.end(), curve_warnings_.begin(), curve_warnings_.end());
+    if (!runtime_error_.empty()) out.push_back(runtime_error_);
+    return out;
+}
+
+// ---- apply, undo, redo ------------------------------------------------------------
+
+void EditorSession::apply() {
+    if (!deformation_ || time() == 0.0) return;
+    BakeChange bake;
+    bake.before = doc_.file.mesh.positions;
+    bake.after = positions();
+    bake.region_before = doc_.region;
+    bake.region_after.kind = RegionSource::Kind::spec;
+    bake.region_after.spec.kind = RegionSpec::Kind::field;
+    bake.region_after.spec.s = s_;
+    bake.curve_before = doc_.curve;
+    bake.curve_after = doc_.curve;
+    bake.baked_before = doc_.baked;
+    // The next deformation starts where this one ended: a straight curve along the
+    // end tangent (handle mode: the handle at its target, moved along its normal).
+    const double length = std::max(0.25 * motion_.curve().polygon_length(), 0.05 * diagonal_);
+    if (bake.curve_after.curve.is_handle) {
+        HandleFrame& from = bake.curve_after.curve.from;
+        from = bake.curve_after.curve.to;
+        bake.curve_after.curve.to.position = from.position + length * from.normal;
+    } else {
+        const CurvePoint end = motion_.curve().at(1.0);
+        const double speed = glm::length(end.d1);
+        const Vec3 tangent = speed > 0.0 ? end.d1 / speed : Vec3(0.0, 0.0, 1.0);
+        auto& b = bake.curve_after.curve.bezier;
+        b.clear();
+        for (int k = 0; k <= 3; ++k) b.push_back(end.position + (length * k / 3.0) * tangent);
+    }
+    bake.curve_after.twist_degrees[0] = bake.curve_after.twist_degrees[1] = 0.0;
+    apply_edit(bake, true);
+    history_.push({"apply deformation", std::move(bake)});
+    target_ = 0.0;
+}
+
+void EditorSession::apply_edit(const Edit& edit, bool forward) {
+    if (const auto* r = std::get_if<RegionChange>(&edit)) {
+        if (forward) ::vfsd::apply_edit(doc_.paint, r->paint);
+        else ::vfsd::revert_edit(doc_.paint, r->paint);
+        doc_.region = forward ? r->after : r->before;
+        region_changed();
+    } else if (const auto* c = std::get_if<CurveChange>(&edit)) {
+        doc_.curve = forward ? c->after : c->before;
+        curve_changed();
+    } else if (const auto* b = std::get_if<BakeChange>(&edit)) {
+        doc_.file.mesh.positions = forward ? b->after : b->before;
+        doc_.baked = forward ? true : b->baked_before;
+        doc_.region = forward ? b->region_after : b->region_before;
+        doc_.curve = forward ? b->curve_after : b->curve_before;
+        diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
+        base_volume_ = signed_volume(doc_.file.mesh.positions, doc_.file.mesh.triangles);
+        region_changed();
+        curve_changed();
+    }
+}
+
+bool EditorSession::undo() {
+    end_region_gesture("");
+    end_curve_gesture("");
+    const HistoryEntry* entry = history_.undo();
+    if (!entry) return false;
+    apply_edit(entry->edit, false);
+    return true;
+}
+
+bool EditorSession::redo() {
+    const HistoryEntry* entry = history_.redo();
+    if (!entry) return false;
+    apply_edit(entry->edit, true);
+    return true;
+}
+
+}  // namespace vfsd::editor

@@ -1,0 +1,181 @@
+#pragma once
+// The live state of an editor: the mesh, how its region is defined (scene spec,
+// painted labels or a painted field), the curve or handle with the motion
+// settings, the deformation advancing toward a target time a bounded number of
+// steps per frame, the edit history, and the numbers a user watches. Windows and
+// browsers drive it through plain calls (editor/tools.h maps pointer events to
+// them); it knows nothing of either.
+//
+// The session is always expressible as a scene file: current_scene() is what
+// save_scene() writes, and `vfsd deform` of that file computes the same
+// deformation (the same prepare_scene, the same steps).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "editor/edit_history.h"
+#include "editor/live_deformation.h"
+#include "io/mesh_file.h"
+#include "region/boundary_cut.h"
+
+namespace vfsd::editor {
+
+struct SessionStats {
+    std::size_t vertices = 0, triangles = 0;
+    std::string backend = "cpu";  // of the running deformation (or the one the next will use)
+    std::string backend_reason;   // why not the GPU, when the CPU runs
+    double ms_per_step = 0.0;
+    double volume_error_percent = 0.0;  // live, against the base mesh
+    std::size_t flipped_triangles = 0;  // live, against the base mesh
+};
+
+enum class BrushTool { paint_inner, paint_outer, erase, paint_s };
+
+struct BrushSettings {
+    BrushTool tool = BrushTool::paint_inner;
+    double radius = 0.1;     // geodesic, in mesh units
+    double s_target = 0.0;   // paint_s: the value s is pulled toward
+    double strength = 0.5;   // paint_s: how far each dab pulls
+};
+
+class EditorSession {
+public:
+    // `gpu` makes the GPU deformation (empty: CPU only, `gpu_reason` says why).
+    explicit EditorSession(DeformationFactory gpu = {}, std::string gpu_reason = "no GPU context");
+
+    // Loading. Each either succeeds and replaces the document (clearing the
+    // history) or throws and leaves everything as it was.
+    void open_scene_file(const std::string& path);
+    void open_scene(const Scene& scene);
+    // A mesh file or builtin:NAME with a starting region (geodesic around the
+    // highest vertex) and curve (from there up and sideways), ready to scrub.
+    void open_mesh(const std::string& spec);
+    // .json opens a scene, anything else a mesh.
+    void open(const std::string& path);
+
+    // The session as a scene. save_scene writes it (the base mesh next to it as
+    // NAME.mesh.ply after an apply), with target_time = the current target.
+    Scene current_scene() const;
+    void save_scene(const std::string& path) const;
+    // The mesh at the current time in the input file's layout (.obj .ply .glb .off).
+    void export_mesh(const std::string& path) const;
+
+    // Region tools. Outside a gesture each call is one undo step; inside
+    // begin_region_gesture / end_region_gesture all calls make one step (a stroke,
+    // a slider drag).
+    void begin_region_gesture();
+    void end_region_gesture(const std::string& label);
+    void pick_geodesic(std::uint32_t vertex, double g_min, double g_max);
+    void set_geodesic_range(double g_min, double g_max);  // no-op unless the region is geodesic
+    void brush(const SurfacePoint& centre, const BrushSettings& settings);
+    // Inner = seed side of `inner`, outer = beyond `outer` (boundary_cut.h); throws InputError.
+    void set_region_from_loops(const SurfaceLoop& inner, const SurfaceLoop& outer, const SurfacePoint& seed);
+
+    // Curve tools, with the same gesture rule.
+    void begin_curve_gesture();
+    void end_curve_gesture(const std::string& label);
+    void set_curve(const CurveSettings& settings);
+    // The draggable points: Bézier control points, or (handle mode) from and to positions.
+    std::vector<Vec3> control_points() const;
+    void move_control_point(std::size_t index, const Vec3& position);
+    void add_segment();
+    void remove_segment();
+    // Handle mode with the handle at `at` (normal along the surface normal there).
+    void use_handle(const HandleFrame& from, const HandleFrame& to);
+
+    // Time. The deformation integrates toward the target in update(); an edit of
+    // the region or curve restarts it from t = 0 (the target stays).
+    void set_target_time(double t);
+    double target_time() const { return target_; }
+    double time() const;
+    bool moving() const { return time() != target_; }
+    void play();   // target 1 (from 0 again when already there)
+    void pause();  // target = current time
+    void reset();  // back to t = 0 at once
+    // Takes at most `max_steps` steps toward the target; returns how many.
+    int update(int max_steps);
+    // Bakes the deformed mesh as the new base (one undo step). No-op at t = 0.
+    void apply();
+
+    bool undo();
+    bool redo();
+    const EditHistory& history() const { return history_; }
+
+    // What to draw and pick on.
+    const std::vector<Vec3>& positions() const;  // at time(); base positions at t = 0
+    const std::vector<Vec3>& base_positions() const { return doc_.file.mesh.positions; }
+    const std::vector<Triangle>& triangles() const { return doc_.file.mesh.triangles; }
+    const VertexRings& rings() const { return doc_.rings; }
+    const std::vector<double>& s() const { return s_; }
+    const RegionSource& region() const { return doc_.region; }
+    const RegionPaint& paint() const { return doc_.paint; }
+    const CurveSettings& curve() const { return doc_.curve; }
+    // The motion of the current curve (for drawing it); empty when it is invalid.
+    const InnerMotion& motion() const { return motion_; }
+    const std::string& mesh_name() const { return doc_.scene.mesh; }
+    double diagonal() const { return diagonal_; }
+    const LiveDeformation* deformation() const { return deformation_.get(); }
+    // Bumped whenever positions() or s() change (the view re-uploads), when the
+    // mesh is replaced (new triangles), and when the curve changes.
+    std::uint64_t revision() const { return revision_; }
+    std::uint64_t mesh_revision() const { return mesh_revision_; }
+    std::uint64_t curve_revision() const { return curve_revision_; }
+
+    const SessionStats& stats() const { return stats_; }
+    // Mesh, region and curve warnings, and the last runtime error.
+    std::vector<std::string> warnings() const;
+
+    void set_force_cpu(bool cpu);
+    DeformationOptions& options() { return doc_.scene.options; }
+
+private:
+    struct Document {
+        MeshFile file;
+        VertexRings rings;
+        Scene scene;  // mesh name, options; region and curve live below
+        RegionSource region;
+        RegionPaint paint;
+        CurveSettings curve;
+        bool baked = false;  // base positions differ from the mesh file's
+        std::vector<std::string> mesh_warnings;
+    };
+
+    void replace_document(Document doc);
+    RegionSpec region_spec() const;
+    void region_changed();
+    void curve_changed();
+    void refresh_curve_warnings();
+    void set_region(const RegionSource& next, const RegionEdit& paint, const std::string& label);
+    void apply_edit(const Edit& edit, bool forward);
+    void drop_deformation();
+    void ensure_deformation();
+    void update_stats();
+
+    DeformationFactory gpu_;
+    std::string gpu_reason_;
+    bool force_cpu_ = false;
+
+    Document doc_;
+    std::vector<double> s_;
+    std::vector<std::string> region_warnings_, curve_warnings_;
+    std::string runtime_error_;
+    InnerMotion motion_;
+    double diagonal_ = 1.0;
+    double base_volume_ = 0.0;
+
+    EditHistory history_;
+    bool region_gesture_ = false, curve_gesture_ = false;
+    bool region_gesture_changed_ = false, curve_gesture_changed_ = false;
+    RegionChange pending_region_;
+    CurveSettings pending_curve_;
+
+    std::unique_ptr<PreparedScene> prepared_;
+    std::unique_ptr<LiveDeformation> deformation_;
+    double target_ = 0.0;
+    SessionStats stats_;
+    std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1;
+};
+
+}  // namespace vfsd::editor

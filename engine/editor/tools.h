@@ -1,0 +1,70 @@
+#pragma once
+// The editor's tools: what a press, drag and release of the pointer do in the
+// viewport. The shell (GLFW or a browser) forwards pointer events here and
+// navigates the camera itself when press() declines; scripts drive the same calls.
+//
+//   navigate  drag a control point (screen plane, or along one axis); elsewhere orbit
+//   geodesic  click a vertex: the geodesic level region (eq. 15) with g_min / g_max
+//   inner / outer / erase   paint labels with a geodesic brush (eq. 16 region)
+//   paint s   pull s toward a value with a smooth brush
+//   loops     click points of the inner loop, close it, the outer loop, close it,
+//             then click the seed on the part that moves
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "editor/camera.h"
+#include "editor/picking.h"
+#include "editor/session.h"
+
+namespace vfsd::editor {
+
+enum class Tool { navigate, geodesic, paint_inner, paint_outer, erase, paint_s, loops };
+
+const char* tool_name(Tool tool);
+
+class ToolController {
+public:
+    Tool tool = Tool::navigate;
+    BrushSettings brush;
+    double g_min = 0.1, g_max = 0.4;  // mesh units
+    int axis = -1;                    // control point drags: -1 screen plane, 0/1/2 along x/y/z
+    std::string message;              // the last error or hint for the user
+
+    // Sizes the brush and geodesic thresholds to a newly opened mesh.
+    void adapt_to(const EditorSession& session);
+
+    // Returns true when the press starts a tool action (otherwise: camera navigation).
+    bool press(EditorSession& session, const Camera& camera, const Viewport& viewport, double x, double y);
+    void drag(EditorSession& session, const Camera& camera, const Viewport& viewport, double x, double y);
+    void release(EditorSession& session);
+    bool active() const { return active_ != Active::none; }
+    // Starts dragging control point `index` directly (scripts; the pointer finds it by pixel).
+    void press_control_point(EditorSession& session, std::size_t index);
+
+    // The control point under the pointer (for highlighting), if any.
+    std::optional<std::size_t> hovered_point(const EditorSession& session, const Camera& camera,
+                                             const Viewport& viewport, double x, double y) const;
+    std::optional<std::size_t> dragged_point() const { return point_; }
+
+    // Loops tool: the loops drawn so far and the one in progress.
+    const std::vector<SurfaceLoop>& loops() const { return loops_; }
+    const SurfaceLoop& loop_in_progress() const { return current_; }
+    // Closes the loop in progress (the seed click follows after two loops).
+    void close_loop();
+    void clear_loops();
+
+private:
+    enum class Active { none, point, stroke };
+    void dab(EditorSession& session, const SurfaceHit& hit);
+
+    Active active_ = Active::none;
+    std::optional<std::size_t> point_;
+    Vec3 point_start_{0.0};
+    std::optional<Vec3> last_dab_;
+    std::vector<SurfaceLoop> loops_;
+    SurfaceLoop current_;
+};
+
+}  // namespace vfsd::editor

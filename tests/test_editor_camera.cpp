@@ -1,0 +1,111 @@
+// The editor's camera and picking: a pixel's ray meets what is drawn at that pixel,
+// zoom keeps the point under the cursor, drags land under the cursor.
+
+#include <catch2/catch.hpp>
+
+#include "editor/camera.h"
+#include "editor/picking.h"
+#include "io/mesh_file.h"
+
+using namespace vfsd;
+using namespace vfsd::editor;
+
+namespace {
+
+Camera framed(const TriangleMesh& mesh, const Viewport& viewport) {
+    Camera camera;
+    camera.frame(mesh.positions, viewport.aspect());
+    return camera;
+}
+
+}  // namespace
+
+TEST_CASE("Camera: project and ray are inverse", "[editor][camera]") {
+    const TriangleMesh mesh = load_mesh("builtin:box");
+    const Viewport viewport{800, 600};
+    Camera camera = framed(mesh, viewport);
+    camera.orbit(37.0, -12.0);
+    for (const Vec3& p : {mesh.positions[0], mesh.positions[100], Vec3(0.1, 0.2, 0.3)}) {
+        const glm::dvec3 pixel = camera.project(p, viewport);
+        const Ray ray = camera.ray(pixel.x, pixel.y, viewport);
+        // Distance from p to the ray.
+        const Vec3 w = p - ray.origin;
+        const double off = glm::length(w - glm::dot(w, ray.direction) * ray.direction);
+        CHECK(off < 1e-9 * camera.distance);
+    }
+}
+
+TEST_CASE("Picking: the ray through a vertex's pixel hits the surface at that vertex", "[editor][camera]") {
+    const TriangleMesh mesh = load_mesh("builtin:sphere");
+    const Viewport viewport{640, 480};
+    const Camera camera = framed(mesh, viewport);
+    // The vertices facing the eye are visible: the nearest one to it certainly is.
+    std::size_t nearest = 0;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        if (glm::length(mesh.positions[v] - camera.eye()) < glm::length(mesh.positions[nearest] - camera.eye()))
+            nearest = v;
+    const glm::dvec3 pixel = camera.project(mesh.positions[nearest], viewport);
+    const auto hit = pick_surface(camera.ray(pixel.x, pixel.y, viewport), mesh.positions, mesh.triangles);
+    REQUIRE(hit);
+    CHECK(hit->nearest_vertex == nearest);
+    CHECK(glm::length(hit->position - mesh.positions[nearest]) < 1e-9);
+    // A pixel in a corner of the image misses the sphere.
+    CHECK_FALSE(pick_surface(camera.ray(2, 2, viewport), mesh.positions, mesh.triangles));
+}
+
+TEST_CASE("Picking: the first surface along the ray wins", "[editor][camera]") {
+    // Two parallel triangles; the ray from above meets the upper one first.
+    const std::vector<Vec3> positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+    const std::vector<Triangle> triangles = {{0, 1, 2}, {3, 4, 5}};
+    const Ray ray{{0.2, 0.2, 5.0}, {0.0, 0.0, -1.0}};
+    const auto hit = pick_surface(ray, positions, triangles);
+    REQUIRE(hit);
+    CHECK(hit->point.triangle == 1);
+    CHECK(hit->distance == Approx(4.0));
+    CHECK(hit->point.barycentric.x == Approx(0.6));
+}
+
+TEST_CASE("Camera: zoom keeps the point under the cursor", "[editor][camera]") {
+    const Viewport viewport{800, 600};
+    Camera camera;
+    camera.target = Vec3(1.0, 2.0, 3.0);
+    camera.distance = 10.0;
+    const Ray before = camera.ray(600, 150, viewport);
+    const Vec3 f = camera.forward();
+    const Vec3 under = before.origin + (glm::dot(camera.target - before.origin, f) / glm::dot(before.direction, f)) * before.direction;
+    camera.zoom(0.5, 600, 150, viewport);
+    CHECK(camera.distance == Approx(5.0));
+    const glm::dvec3 after = camera.project(under, viewport);
+    CHECK(after.x == Approx(600.0).margin(1e-6));
+    CHECK(after.y == Approx(150.0).margin(1e-6));
+}
+
+TEST_CASE("Camera: standard views and orbit", "[editor][camera]") {
+    Camera camera;
+    camera.set_view(StandardView::front);
+    CHECK(glm::length(camera.forward() - Vec3(0.0, 1.0, 0.0)) < 1e-12);
+    camera.set_view(StandardView::top);
+    CHECK(camera.forward().z < -0.99);
+    camera.set_view(StandardView::right);
+    CHECK(glm::length(camera.forward() - Vec3(-1.0, 0.0, 0.0)) < 1e-12);
+    const Vec3 target = camera.target;
+    camera.orbit(100.0, 40.0);
+    CHECK(camera.target == target);
+    CHECK(glm::length(camera.eye() - target) == Approx(camera.distance));
+}
+
+TEST_CASE("drag_point: screen-plane drags land under the cursor, axis drags move one coordinate", "[editor][camera]") {
+    const Viewport viewport{800, 600};
+    Camera camera;
+    camera.distance = 6.0;
+    const Vec3 from(0.3, -0.2, 0.5);
+    const Vec3 moved = drag_point(from, 500, 200, camera, viewport);
+    const glm::dvec3 pixel = camera.project(moved, viewport);
+    CHECK(pixel.x == Approx(500.0).margin(1e-6));
+    CHECK(pixel.y == Approx(200.0).margin(1e-6));
+    CHECK(glm::dot(moved - from, camera.forward()) == Approx(0.0).margin(1e-12));
+    const Vec3 along_z = drag_point(from, 400, 100, camera, viewport, 2);
+    CHECK(along_z.x == from.x);
+    CHECK(along_z.y == from.y);
+    CHECK(along_z.z > from.z);  // dragging up the screen lifts it
+}

@@ -1,0 +1,131 @@
+// Undo and redo in the editor: every region edit, curve edit and applied
+// deformation is reverted and re-applied exactly.
+
+#include <catch2/catch.hpp>
+
+#include "editor/session.h"
+#include "region/selectors.h"
+
+using namespace vfsd;
+using namespace vfsd::editor;
+
+namespace {
+
+struct Snapshot {
+    std::vector<Vec3> positions;
+    std::vector<double> s;
+    std::vector<std::uint8_t> labels;
+    std::vector<double> paint_s;
+    std::vector<Vec3> control_points;
+    RegionSource::Kind region_kind;
+    bool operator==(const Snapshot& o) const {
+        return positions == o.positions && s == o.s && labels == o.labels && paint_s == o.paint_s &&
+               control_points == o.control_points && region_kind == o.region_kind;
+    }
+};
+
+Snapshot snapshot(const EditorSession& session) {
+    return {session.base_positions(), session.s(),          session.paint().labels,
+            session.paint().s,        session.control_points(), session.region().kind};
+}
+
+Scene box_scene() {
+    Scene scene = load_scene(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json");
+    scene.options.steps = 30;
+    return scene;
+}
+
+SurfacePoint at_vertex_nearest(const EditorSession& session, Vec3 p) {
+    return surface_point_at_vertex(session.triangles(), session.base_positions().size(),
+                                   nearest_vertex(session.base_positions(), p));
+}
+
+void run_to_target(EditorSession& session) {
+    while (session.moving()) session.update(7);
+}
+
+}  // namespace
+
+TEST_CASE("EditHistory: undo and redo restore every state exactly", "[editor][history]") {
+    EditorSession session;
+    session.open_scene(box_scene());
+    std::vector<Snapshot> states = {snapshot(session)};
+
+    BrushSettings inner;
+    inner.tool = BrushTool::paint_inner;
+    inner.radius = 0.2;
+    session.brush(at_vertex_nearest(session, {0.5, 0.0, 0.0}), inner);
+    states.push_back(snapshot(session));
+    CHECK(session.region().kind == RegionSource::Kind::labels);
+
+    session.move_control_point(3, session.control_points()[3] + Vec3(0.1, 0.2, 0.0));
+    states.push_back(snapshot(session));
+
+    session.pick_geodesic(nearest_vertex(session.base_positions(), {0.0, 0.0, 0.5}), 0.1, 0.4);
+    states.push_back(snapshot(session));
+
+    BrushSettings field;
+    field.tool = BrushTool::paint_s;
+    field.radius = 0.3;
+    field.s_target = 0.0;
+    session.brush(at_vertex_nearest(session, {0.0, 0.5, 0.0}), field);
+    states.push_back(snapshot(session));
+
+    session.set_target_time(0.5);
+    run_to_target(session);
+    session.apply();
+    states.push_back(snapshot(session));
+    CHECK(session.time() == 0.0);
+    CHECK(states.back().positions != states.front().positions);
+
+    REQUIRE(session.history().undo_count() == 5);
+    for (int k = 4; k >= 0; --k) {
+        REQUIRE(session.undo());
+        CHECK(snapshot(session) == states[k]);
+    }
+    CHECK_FALSE(session.undo());
+    for (int k = 1; k <= 5; ++k) {
+        REQUIRE(session.redo());
+        CHECK(snapshot(session) == states[k]);
+    }
+    CHECK_FALSE(session.redo());
+}
+
+TEST_CASE("EditHistory: a stroke or a drag is one undo step; a new edit clears redo", "[editor][history]") {
+    EditorSession session;
+    session.open_scene(box_scene());
+    const Snapshot start = snapshot(session);
+    BrushSettings outer;
+    outer.tool = BrushTool::paint_outer;
+    outer.radius = 0.15;
+    session.begin_region_gesture();
+    for (const Vec3 p : {Vec3(0.5, 0.0, -0.2), Vec3(0.5, 0.2, -0.1), Vec3(0.5, 0.4, 0.0)})
+        session.brush(at_vertex_nearest(session, p), outer);
+    session.end_region_gesture("paint outer");
+    session.begin_curve_gesture();
+    for (int k = 1; k <= 5; ++k) session.move_control_point(2, session.control_points()[2] + Vec3(0.0, 0.0, 0.02));
+    session.end_curve_gesture("move control point 2");
+    CHECK(session.history().undo_count() == 2);
+    REQUIRE(session.undo());
+    REQUIRE(session.undo());
+    CHECK(snapshot(session) == start);
+    CHECK(session.history().redo_count() == 2);
+    session.add_segment();
+    CHECK(session.control_points().size() == 7);
+    CHECK(session.history().redo_count() == 0);
+}
+
+TEST_CASE("EditHistory: undo of a curve edit restarts the deformation from t = 0", "[editor][history]") {
+    EditorSession session;
+    session.open_scene(box_scene());
+    session.move_control_point(3, session.control_points()[3] + Vec3(0.0, 0.0, 0.2));
+    session.set_target_time(1.0);
+    run_to_target(session);
+    const std::vector<Vec3> result = session.positions();
+    REQUIRE(session.undo());
+    CHECK(session.time() == 0.0);
+    CHECK(session.target_time() == 1.0);
+    REQUIRE(session.redo());
+    run_to_target(session);
+    CHECK(session.positions() == result);
+}

@@ -1,0 +1,131 @@
+// The editor session: what it saves is what `vfsd deform` computes, failed loads
+// change nothing, a plain mesh opens ready to deform, scripts parse.
+
+#include <catch2/catch.hpp>
+
+#include "base/error.h"
+#include "editor/script.h"
+#include "editor/session.h"
+#include "region/selectors.h"
+#include "test_io_support.h"
+
+using namespace vfsd;
+using namespace vfsd::editor;
+
+namespace {
+
+void run_to_target(EditorSession& session) {
+    while (session.moving()) session.update(5);
+}
+
+// The deformation `vfsd deform` computes for a scene file (CPU).
+std::vector<Vec3> deform_scene_file(const std::string& path) {
+    const Scene scene = load_scene(path);
+    const PreparedScene prepared = prepare_scene(scene);
+    Deformation deformation = prepared.start_deformation();
+    deformation.advance(scene.target_time);
+    return deformation.positions();
+}
+
+SurfacePoint at_vertex_nearest(const EditorSession& session, Vec3 p) {
+    return surface_point_at_vertex(session.triangles(), session.base_positions().size(),
+                                   nearest_vertex(session.base_positions(), p));
+}
+
+}  // namespace
+
+TEST_CASE("EditorSession: save, load and deform give the session's own result", "[editor][session]") {
+    test::ScratchDir dir;
+    EditorSession session;
+    Scene scene = load_scene(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json");
+    scene.options.steps = 40;
+    session.open_scene(scene);
+
+    SECTION("painted labels and a dragged control point") {
+        BrushSettings brush;
+        brush.radius = 0.25;
+        session.brush(at_vertex_nearest(session, {0.5, 0.0, 0.1}), brush);
+        session.move_control_point(3, session.control_points()[3] + Vec3(0.0, 0.3, 0.1));
+    }
+    SECTION("a painted field, a twist and translation mode") {
+        BrushSettings brush;
+        brush.tool = BrushTool::paint_s;
+        brush.radius = 0.4;
+        brush.s_target = 0.2;
+        session.brush(at_vertex_nearest(session, {0.5, 0.5, 0.5}), brush);
+        CurveSettings curve = session.curve();
+        curve.twist_degrees[1] = 40.0;
+        curve.inner_motion = InnerMotionMode::Translation;
+        session.set_curve(curve);
+    }
+    SECTION("a geodesic region") {
+        session.pick_geodesic(nearest_vertex(session.base_positions(), {0.0, 0.0, 0.5}), 0.2, 0.6);
+    }
+    SECTION("after an apply, with the baked mesh saved beside the scene") {
+        session.set_target_time(1.0);
+        run_to_target(session);
+        session.apply();
+        session.move_control_point(3, session.control_points()[3] + Vec3(0.1, 0.0, 0.1));
+    }
+    session.set_target_time(0.75);
+    run_to_target(session);
+    REQUIRE(session.time() == 0.75);
+    const std::string path = dir.file("saved.json");
+    session.save_scene(path);
+    CHECK(deform_scene_file(path) == session.positions());
+}
+
+TEST_CASE("EditorSession: export writes the current shape", "[editor][session]") {
+    test::ScratchDir dir;
+    EditorSession session;
+    session.open_mesh("builtin:bar");
+    session.set_target_time(1.0);
+    run_to_target(session);
+    session.export_mesh(dir.file("bent.obj"));
+    const TriangleMesh written = load_mesh(dir.file("bent.obj"));
+    REQUIRE(written.vertex_count() == session.positions().size());
+    double worst = 0.0;
+    for (std::size_t v = 0; v < written.vertex_count(); ++v)
+        worst = std::max(worst, glm::length(written.positions[v] - session.positions()[v]));
+    CHECK(worst < 1e-6 * session.diagonal());
+}
+
+TEST_CASE("EditorSession: a failed load keeps the current mesh and history", "[editor][session]") {
+    test::ScratchDir dir;
+    EditorSession session;
+    session.open_mesh("builtin:bar");
+    session.move_control_point(3, session.control_points()[3] + Vec3(0.5, 0.0, 0.0));
+    const std::vector<double> s = session.s();
+    test::write_bytes(dir.file("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 9\n");
+    CHECK_THROWS_AS(session.open(dir.file("broken.obj")), InputError);
+    CHECK_THROWS(session.open(dir.file("missing.ply")));
+    CHECK_THROWS(session.open(dir.file("missing.json")));
+    CHECK(session.mesh_name() == "builtin:bar");
+    CHECK(session.s() == s);
+    CHECK(session.history().undo_count() == 1);
+}
+
+TEST_CASE("EditorSession: a plain mesh opens with a region and a curve that deform it", "[editor][session]") {
+    EditorSession session;
+    session.open_mesh("builtin:sphere");
+    CHECK(session.warnings().empty());
+    CHECK(std::count(session.s().begin(), session.s().end(), 0.0) > 0);
+    session.play();
+    run_to_target(session);
+    CHECK(session.time() == 1.0);
+    CHECK(session.stats().backend == "cpu");
+    CHECK(session.stats().volume_error_percent < 2.0);
+    CHECK(session.stats().flipped_triangles == 0);
+}
+
+TEST_CASE("Scripts: JSON lines and arrays parse; errors name the line", "[editor][script]") {
+    const auto lines = parse_script("# a comment\n{\"action\": \"set-time\", \"t\": 1}\n\n{\"action\": \"undo\"}\n", "s.jsonl");
+    REQUIRE(lines.size() == 2);
+    CHECK(lines[1].name == "undo");
+    CHECK(lines[1].where == "s.jsonl:4");
+    const auto array = parse_script(" [{\"action\": \"redo\"}, {\"action\": \"apply\"}]", "s.json");
+    REQUIRE(array.size() == 2);
+    CHECK(array[1].where == "s.json[1]");
+    CHECK_THROWS_WITH(parse_script("{\"action\": \"undo\"}\n{\"t\": 1}\n", "x"), Catch::Contains("x:2"));
+    CHECK_THROWS_WITH(parse_script("{oops\n", "y"), Catch::Contains("y:1"));
+}
