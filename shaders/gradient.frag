@@ -2,6 +2,7 @@
 // with g·n = 0 that fits s best on the 1-ring, as estimate_gradients in
 // engine/deform/passes.cpp. The normal equations are divided by their trace so
 // that the singularity test does not depend on the mesh's scale in float.
+// Outside the blend region (s = 0 or 1) b′(s) = 0, ∇r is never used and is 0.
 uniform sampler2D u_positions;  // xyz = position, w = s
 uniform sampler2D u_normals;
 out vec4 o_gradient;
@@ -10,6 +11,7 @@ void main() {
     int v = fragment_vertex();
     if (v < 0) { o_gradient = vec4(0.0); return; }
     vec4 xs = fetch(u_positions, v);
+    if (!in_blend_region(xs.w)) { o_gradient = vec4(0.0); return; }
     vec3 n = fetch(u_normals, v).xyz;
     ivec2 ring = ring_of(v);
     mat3 normal_matrix = mat3(0.0);

@@ -23,3 +23,6 @@ int ring_entry(int i) { return texelFetch(u_neighbours, texel_of(i), 0).x; }
 int entry_vertex(int entry) { return entry >> 1; }
 bool entry_has_wedge(int entry) { return (entry & 1) == 1; }
 vec4 fetch(sampler2D t, int v) { return texelFetch(t, texel_of(v), 0); }
+
+// 0 < s < 1: where b′(s) ≠ 0, the only vertices whose ∇r the field uses.
+bool in_blend_region(float s) { return s > 0.0 && s < 1.0; }

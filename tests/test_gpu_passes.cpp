@@ -111,7 +111,7 @@ TEST_CASE("GPU gradient pass equals estimate_gradients (eq. 6)", "[gpu]") {
         gpu::GpuPasses gpu(in.positions, in.s, in.rings);
         std::vector<Vec3> normals, cpu;
         estimate_normals(in.positions, in.rings, normals);
-        estimate_gradients(in.positions, normals, in.s, in.rings, cpu);
+        estimate_gradients(in.positions, normals, in.s, in.rings, blend_vertices(in.s), cpu);
         gpu.estimate_normals(gpu::At::positions);
         gpu.estimate_gradients(gpu::At::positions);
         const double scale = test::max_length(cpu);
@@ -130,7 +130,7 @@ TEST_CASE("GPU smoothing pass equals smooth_gradients", "[gpu]") {
         std::vector<Vec3> cpu = some_gradients(in, normals);
         gpu.set_gradients(cpu);
         gpu.estimate_normals(gpu::At::positions);
-        smooth_gradients(normals, in.s, in.rings, 10, 0.5, cpu, scratch);
+        smooth_gradients(normals, in.s, in.rings, blend_vertices(in.s), 10, 0.5, cpu, scratch);
         gpu.smooth_gradients(10, 0.5);
         const double scale = test::max_length(cpu);
         const double error = test::max_distance(gpu.read_gradients(), cpu);

@@ -24,6 +24,7 @@ Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region 
                              std::to_string(positions_.size()) + " vertices");
         if (rings_.vertex_count() != positions_.size()) throw InputError("rings do not match the mesh");
     }
+    if (!region_.sphere_tool) blend_ = blend_vertices(region_.s);
     normals_.resize(positions_.size());
     gradients_.resize(positions_.size());
     scratch_.resize(positions_.size());
@@ -73,8 +74,9 @@ void Deformation::step(double h) {
 // Normal, gradient (eq. 6) and smoothing passes on the positions `at`.
 void Deformation::estimate_surface_gradients(const std::vector<Vec3>& at) {
     estimate_normals(at, rings_, normals_);
-    estimate_gradients(at, normals_, region_.s, rings_, gradients_);
-    smooth_gradients(normals_, region_.s, rings_, options_.smoothing_steps, options_.smoothing_weight, gradients_, scratch_);
+    estimate_gradients(at, normals_, region_.s, rings_, blend_, gradients_);
+    smooth_gradients(normals_, region_.s, rings_, blend_, options_.smoothing_steps, options_.smoothing_weight,
+                     gradients_, scratch_);
     have_gradients_ = true;
 }
 

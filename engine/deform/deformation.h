@@ -65,6 +65,7 @@ private:
     DeformationOptions options_;
     double time_ = 0.0;
     // Per-step work arrays, sized once.
+    std::vector<std::uint32_t> blend_;  // vertices with 0 < s < 1
     std::vector<Vec3> normals_, gradients_, scratch_, next_;
     bool have_gradients_ = false;  // gradients_ hold the last step's ∇r
     std::vector<double> step_ms_;

@@ -26,52 +26,66 @@ void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rin
     vertex_normals(positions, rings, normals);
 }
 
+std::vector<std::uint32_t> blend_vertices(const std::vector<double>& s) {
+    std::vector<std::uint32_t> blend;
+    for (std::size_t v = 0; v < s.size(); ++v)
+        if (s[v] > 0.0 && s[v] < 1.0) blend.push_back(static_cast<std::uint32_t>(v));
+    return blend;
+}
+
 void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
-                        const std::vector<double>& s, const VertexRings& rings, std::vector<Vec3>& gradients) {
-    gradients.resize(positions.size());
-    parallel_for(rings.vertex_count(), [&](std::size_t first, std::size_t last) {
-    for (auto v = static_cast<std::uint32_t>(first); v < last; ++v) {
-        const Vec3 x = positions[v];
-        const Vec3 n = normals[v];
-        // Normal equations of eq. (6) in the tangent plane: with p = (y − x)
-        // projected onto the plane ⊥ n, minimise Σ (g·p − (s(y) − s(x)))². The
-        // matrix Σ p pᵀ is singular along n; adding n nᵀ keeps g·n = 0.
-        glm::dmat3 normal_matrix(0.0);
-        Vec3 rhs(0.0);
-        for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
-            const std::uint32_t y = rings.neighbours[i];
-            const Vec3 d = positions[y] - x;
-            const Vec3 p = d - glm::dot(d, n) * n;
-            normal_matrix += glm::outerProduct(p, p);
-            rhs += (s[y] - s[v]) * p;
+                        const std::vector<double>& s, const VertexRings& rings,
+                        const std::vector<std::uint32_t>& blend, std::vector<Vec3>& gradients) {
+    gradients.assign(positions.size(), Vec3(0.0));
+    parallel_for(blend.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+            const std::uint32_t v = blend[i];
+            const Vec3 x = positions[v];
+            const Vec3 n = normals[v];
+            // Normal equations of eq. (6) in the tangent plane: with p = (y − x)
+            // projected onto the plane ⊥ n, minimise Σ (g·p − (s(y) − s(x)))². The
+            // matrix Σ p pᵀ is singular along n; adding n nᵀ keeps g·n = 0.
+            glm::dmat3 normal_matrix(0.0);
+            Vec3 rhs(0.0);
+            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+                const std::uint32_t y = rings.neighbours[k];
+                const Vec3 d = positions[y] - x;
+                const Vec3 p = d - glm::dot(d, n) * n;
+                normal_matrix += glm::outerProduct(p, p);
+                rhs += (s[y] - s[v]) * p;
+            }
+            const double scale = normal_matrix[0][0] + normal_matrix[1][1] + normal_matrix[2][2];
+            normal_matrix += scale * glm::outerProduct(n, n);
+            const double det = glm::determinant(normal_matrix);
+            // A ring that spans no plane (fewer than two independent directions) gives no gradient.
+            gradients[v] = det > 1e-12 * scale * scale * scale ? glm::inverse(normal_matrix) * rhs : Vec3(0.0);
         }
-        const double scale = normal_matrix[0][0] + normal_matrix[1][1] + normal_matrix[2][2];
-        normal_matrix += scale * glm::outerProduct(n, n);
-        const double det = glm::determinant(normal_matrix);
-        // A ring that spans no plane (fewer than two independent directions) gives no gradient.
-        gradients[v] = det > 1e-12 * scale * scale * scale ? glm::inverse(normal_matrix) * rhs : Vec3(0.0);
-    }
     });
 }
 
 void smooth_gradients(const std::vector<Vec3>& normals, const std::vector<double>& s, const VertexRings& rings,
-                      int steps, double weight, std::vector<Vec3>& gradients, std::vector<Vec3>& scratch) {
-    scratch.resize(gradients.size());
+                      const std::vector<std::uint32_t>& blend, int steps, double weight,
+                      std::vector<Vec3>& gradients, std::vector<Vec3>& scratch) {
+    // Both buffers hold 0 outside the blend region; the steps write only inside it.
+    scratch.assign(gradients.size(), Vec3(0.0));
+    for (std::size_t v = 0; v < gradients.size(); ++v)
+        if (!(s[v] > 0.0 && s[v] < 1.0)) gradients[v] = Vec3(0.0);
     for (int step = 0; step < steps; ++step) {
-        parallel_for(rings.vertex_count(), [&](std::size_t first, std::size_t last) {
-        for (auto v = static_cast<std::uint32_t>(first); v < last; ++v) {
-            // Average over the neighbours inside the blend region only: outside it s
-            // is constant, ∇r there carries no information, and mixing it in would
-            // shrink ∇r along the region's borders.
-            Vec3 sum(0.0);
-            int count = 0;
-            for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
-                const std::uint32_t y = rings.neighbours[i];
-                if (s[y] > 0.0 && s[y] < 1.0) sum += gradients[y], ++count;
+        parallel_for(blend.size(), [&](std::size_t first, std::size_t last) {
+            for (std::size_t i = first; i < last; ++i) {
+                const std::uint32_t v = blend[i];
+                // Average over the neighbours inside the blend region only: outside it
+                // s is constant, ∇r there carries no information, and mixing it in
+                // would shrink ∇r along the region's borders.
+                Vec3 sum(0.0);
+                int count = 0;
+                for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+                    const std::uint32_t y = rings.neighbours[k];
+                    if (s[y] > 0.0 && s[y] < 1.0) sum += gradients[y], ++count;
+                }
+                const Vec3 g = count > 0 ? gradients[v] + weight * (sum / double(count) - gradients[v]) : gradients[v];
+                scratch[v] = g - glm::dot(g, normals[v]) * normals[v];
             }
-            const Vec3 g = count > 0 ? gradients[v] + weight * (sum / double(count) - gradients[v]) : gradients[v];
-            scratch[v] = g - glm::dot(g, normals[v]) * normals[v];
-        }
         });
         gradients.swap(scratch);
     }

@@ -17,17 +17,23 @@ namespace vfsd {
 // Normal pass: area-weighted vertex normals from the ordered 1-rings.
 void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals);
 
-// Gradient pass, eq. (6): per vertex x, the gradient g of the linear function
-// r(y) = s(x) + g·(y − x) with g·n(x) = 0 that fits s best, in the least-squares
-// sense, on the 1-ring of x.
+// The vertices with 0 < s < 1. Only there does the field use ∇r: b′(s) = 0 for
+// s = 0 and s = 1 (eq. 4), so the gradient and smoothing passes skip the rest.
+std::vector<std::uint32_t> blend_vertices(const std::vector<double>& s);
+
+// Gradient pass, eq. (6): per vertex x of the blend region, the gradient g of the
+// linear function r(y) = s(x) + g·(y − x) with g·n(x) = 0 that fits s best, in the
+// least-squares sense, on the 1-ring of x. ∇r is 0 outside the blend region.
 void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
-                        const std::vector<double>& s, const VertexRings& rings, std::vector<Vec3>& gradients);
+                        const std::vector<double>& s, const VertexRings& rings,
+                        const std::vector<std::uint32_t>& blend, std::vector<Vec3>& gradients);
 
 // Smoothing pass: `steps` Laplacian steps moving each gradient by `weight` toward
-// the mean gradient of its 1-ring neighbours with 0 < s < 1, kept tangent to the surface (normal removed).
-// `scratch` is a work array (resized once).
+// the mean gradient of its 1-ring neighbours with 0 < s < 1, kept tangent to the surface (normal removed),
+// on the blend region only (∇r stays 0 elsewhere). `scratch` is a work array.
 void smooth_gradients(const std::vector<Vec3>& normals, const std::vector<double>& s, const VertexRings& rings,
-                      int steps, double weight, std::vector<Vec3>& gradients, std::vector<Vec3>& scratch);
+                      const std::vector<std::uint32_t>& blend, int steps, double weight,
+                      std::vector<Vec3>& gradients, std::vector<Vec3>& scratch);
 
 // Midpoint predictor: where each vertex will be half-way through the step, by one
 // Euler half step along the field with the previous step's gradients. The normal,
