@@ -73,7 +73,7 @@ void Deformation::step(double h) {
 
 // Normal, gradient (eq. 6) and smoothing passes on the positions `at`.
 void Deformation::estimate_surface_gradients(const std::vector<Vec3>& at) {
-    estimate_normals(at, rings_, normals_);
+    estimate_normals(at, rings_, blend_, normals_);
     estimate_gradients(at, normals_, region_.s, rings_, blend_, gradients_);
     smooth_gradients(normals_, region_.s, rings_, blend_, options_.smoothing_steps, options_.smoothing_weight,
                      gradients_, scratch_);

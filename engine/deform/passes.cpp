@@ -26,6 +26,11 @@ void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rin
     vertex_normals(positions, rings, normals);
 }
 
+void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rings,
+                      const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals) {
+    vertex_normals(positions, rings, vertices, normals);
+}
+
 std::vector<std::uint32_t> blend_vertices(const std::vector<double>& s) {
     std::vector<std::uint32_t> blend;
     for (std::size_t v = 0; v < s.size(); ++v)

@@ -16,6 +16,9 @@ namespace vfsd {
 
 // Normal pass: area-weighted vertex normals from the ordered 1-rings.
 void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals);
+// The same at the listed vertices only: the blend region, where the next passes use them.
+void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rings,
+                      const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals);
 
 // The vertices with 0 < s < 1. Only there does the field use ∇r: b′(s) = 0 for
 // s = 0 and s = 1 (eq. 4), so the gradient and smoothing passes skip the rest.

@@ -48,6 +48,7 @@ Vec3 stream_vector(const MotionSample& m, const Vec3& x) {
 }
 
 Vec3 deformation_velocity(const MotionSample& m, const Vec3& x, double b, const Vec3& grad_b) {
+    if (b == 0.0 && grad_b == Vec3(0.0)) return inner_velocity(m, x);  // inner region: rigid
     const double a = 1.0 - b;
     return a * a * inner_velocity(m, x) - a * glm::cross(stream_vector(m, x), grad_b);
 }

@@ -29,21 +29,36 @@ double signed_volume(const std::vector<Vec3>& positions, const std::vector<Trian
     return six_volume / 6.0;
 }
 
+namespace {
+
+// Normalised sum of the (unnormalised) wedge normals around v.
+Vec3 ring_normal(const std::vector<Vec3>& positions, const VertexRings& rings, std::uint32_t v) {
+    const Vec3 x = positions[v];
+    Vec3 sum(0.0);
+    for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
+        if (!rings.wedge[i]) continue;
+        const Vec3 a = positions[rings.neighbours[i]] - x;
+        const Vec3 b = positions[rings.neighbours[rings.next(v, i)]] - x;
+        sum += glm::cross(a, b);  // twice the triangle's area times its normal
+    }
+    const double len = glm::length(sum);
+    return len > 0.0 ? sum / len : Vec3(0.0);
+}
+
+}  // namespace
+
 void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals) {
     normals.resize(positions.size());
     parallel_for(rings.vertex_count(), [&](std::size_t first, std::size_t last) {
-    for (auto v = static_cast<std::uint32_t>(first); v < last; ++v) {
-        const Vec3 x = positions[v];
-        Vec3 sum(0.0);
-        for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
-            if (!rings.wedge[i]) continue;
-            const Vec3 a = positions[rings.neighbours[i]] - x;
-            const Vec3 b = positions[rings.neighbours[rings.next(v, i)]] - x;
-            sum += glm::cross(a, b);  // twice the triangle's area times its normal
-        }
-        const double len = glm::length(sum);
-        normals[v] = len > 0.0 ? sum / len : Vec3(0.0);
-    }
+        for (auto v = static_cast<std::uint32_t>(first); v < last; ++v) normals[v] = ring_normal(positions, rings, v);
+    });
+}
+
+void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings,
+                    const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals) {
+    normals.resize(positions.size());
+    parallel_for(vertices.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) normals[vertices[i]] = ring_normal(positions, rings, vertices[i]);
     });
 }
 

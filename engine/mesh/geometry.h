@@ -19,5 +19,8 @@ double signed_volume(const std::vector<Vec3>& positions, const std::vector<Trian
 // the triangles in each vertex's fan, gathered over the ordered ring as the normal
 // pass of sec. 5 does. Vertices with a zero sum get (0,0,0).
 void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals);
+// The same, computed only at the listed vertices (the others are left as they are).
+void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings,
+                    const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals);
 
 }  // namespace vfsd
