@@ -3,8 +3,9 @@
 //
 // Runs the scene's deformation from t = 0 to its target time and writes the
 // deformed mesh in the input's vertex order and layout, and a measured report.
-// --backend gpu runs the passes of sec. 5 in a headless GL context (OSMesa); when
-// none can be made it exits 1 saying why (no silent fall-back to the CPU).
+// --backend gpu runs the passes of sec. 5 in a headless GL context (OSMesa, or EGL
+// in a build with VFSD_HEADLESS_GL=egl); when none can be made it exits 1 saying
+// why (no silent fall-back to the CPU). The report names the context and renderer.
 
 #include <chrono>
 #include <cstdio>
@@ -147,9 +148,10 @@ int run_deform(const Args& args) {
     const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();  // GpuUnavailable: exit 1
     gpu::GpuDeformation deformation(prepared.file.mesh.positions, prepared.rings, prepared.region, prepared.motion,
                                     scene.options);
-    return deform_and_write(args, prepared, deformation, {{"backend", "gpu"}, {"gl_renderer", context->renderer()}});
+    return deform_and_write(args, prepared, deformation,
+                            {{"backend", "gpu"}, {"gl_context", context->kind()}, {"gl_renderer", context->renderer()}});
 #else
-    throw vfsd::Error("this vfsd was built without the GPU backend (OSMesa not found); use --backend cpu");
+    throw vfsd::Error("this vfsd was built without the GPU backend (no headless GL: OSMesa not found); use --backend cpu");
 #endif
 }
 

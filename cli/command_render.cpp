@@ -1,10 +1,11 @@
 // vfsd render SCENE.json --png OUT.png [--time t] [--size WxH] [--backend cpu|gpu]
 //             [--wireframe] [--steps N] [--force]
 //
-// Renders the scene headless (OSMesa) as the apps show it: s from blue (0) to red
-// (1), the region borders, the curve, a white sphere at the current time and a
-// dark one at the scene's target time. --time integrates to t first, on the CPU
-// or (default) on the GPU, whose vertex texture is drawn without read-back.
+// Renders the scene headless (OSMesa, or EGL in a build with VFSD_HEADLESS_GL=egl)
+// as the apps show it: s from blue (0) to red (1), the region borders, the curve,
+// a white sphere at the current time and a dark one at the scene's target time.
+// --time integrates to t first, on the CPU or (default) on the GPU, whose vertex
+// texture is drawn without read-back.
 
 #include <cstdio>
 #include <filesystem>
@@ -80,8 +81,8 @@ int run_render(const Args& args) {
         image = gpu::render_image(renderer, vertices, camera, width, height, options);
     }
     gpu::write_png(out, width, height, image);
-    std::printf("%s: %dx%d, t = %g, %s (%s)\n", out.c_str(), width, height, time, backend.c_str(),
-                context->renderer().c_str());
+    std::printf("%s: %dx%d, t = %g, %s (%s: %s)\n", out.c_str(), width, height, time, backend.c_str(),
+                context->kind().c_str(), context->renderer().c_str());
     return kExitOk;
 #else
     throw vfsd::Error("this vfsd was built without headless GL (OSMesa not found), so it cannot render");

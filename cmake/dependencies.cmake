@@ -29,8 +29,20 @@ else()
   target_include_directories(vfsd_thirdparty SYSTEM INTERFACE /usr/include/stb)
 endif()
 
-# Headless GL for the GPU path's CLI and tests (engine/gpu): Mesa's OSMesa.
-if(NOT EMSCRIPTEN)
+# Headless GL for the GPU path's CLI and tests (engine/gpu), chosen at configure
+# time because one binary never links two GL libraries: VFSD_HEADLESS_GL=osmesa
+# (default: Mesa's OSMesa, llvmpipe) or egl (glvnd's libEGL + libOpenGL: a GPU
+# driver's EGL device, or Mesa's surfaceless platform; preset release-egl).
+set(VFSD_HEADLESS_GL "osmesa" CACHE STRING "Headless GL context of the CLI and tests: osmesa or egl")
+set_property(CACHE VFSD_HEADLESS_GL PROPERTY STRINGS osmesa egl)
+if(NOT EMSCRIPTEN AND VFSD_HEADLESS_GL STREQUAL "egl")
+  find_package(OpenGL COMPONENTS EGL OpenGL)
+  if(NOT TARGET OpenGL::EGL OR NOT TARGET OpenGL::OpenGL)
+    message(FATAL_ERROR "VFSD_HEADLESS_GL=egl needs glvnd's libEGL and libOpenGL: "
+                        "install libegl-dev and libopengl-dev (scripts/build-egl does)")
+  endif()
+  set(VFSD_EGL_FOUND ON)
+elseif(NOT EMSCRIPTEN AND VFSD_HEADLESS_GL STREQUAL "osmesa")
   find_package(PkgConfig QUIET)
   if(PkgConfig_FOUND)
     pkg_check_modules(OSMESA QUIET IMPORTED_TARGET osmesa)
@@ -40,4 +52,6 @@ if(NOT EMSCRIPTEN)
   else()
     message(STATUS "OSMesa not found (libosmesa6-dev): building without the GPU path")
   endif()
+elseif(NOT EMSCRIPTEN)
+  message(FATAL_ERROR "VFSD_HEADLESS_GL='${VFSD_HEADLESS_GL}': expected osmesa or egl")
 endif()

@@ -80,6 +80,7 @@ TEST_CASE("vfsd render and vfsd deform --backend gpu run headless", "[gpu][rende
     const nlohmann::json json = nlohmann::json::parse(in);
     CHECK(json["backend"] == "gpu");
     CHECK(!json["gl_renderer"].get<std::string>().empty());
+    CHECK(json["gl_context"] == vfsd::test::gpu_context()->kind());
     CHECK(json["steps"] == 20);
     std::filesystem::remove_all(dir);
 }
