@@ -51,5 +51,6 @@ int run_info(const Args& args);
 int run_convert(const Args& args);
 int run_deform(const Args& args);
 int run_render(const Args& args);
+int run_bench(const Args& args);
 
 }  // namespace vfsd::cli

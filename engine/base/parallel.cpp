@@ -1,6 +1,7 @@
 #include "base/parallel.h"
 
 #include <algorithm>
+#include <atomic>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -84,12 +85,19 @@ Pool& pool() {
     return instance;
 }
 
+std::atomic<unsigned> thread_limit{0};
+
 }  // namespace
 
-unsigned parallel_thread_count() { return pool().size(); }
+unsigned parallel_thread_count() {
+    const unsigned limit = thread_limit.load();
+    return limit == 0 ? pool().size() : std::min(limit, pool().size());
+}
+
+void set_parallel_thread_limit(unsigned threads) { thread_limit = threads; }
 
 void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
-    if (n < kParallelGrain || pool().size() == 1) {
+    if (n < kParallelGrain || parallel_thread_count() == 1) {
         if (n > 0) body(0, n);
         return;
     }

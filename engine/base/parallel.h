@@ -18,5 +18,8 @@ void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size
 
 // Number of threads parallel_for uses (1 where threads are unavailable).
 unsigned parallel_thread_count();
+// 1 makes parallel_for run serially from now on, 0 gives it all threads again
+// (for benchmarks that compare one thread with all).
+void set_parallel_thread_limit(unsigned threads);
 
 }  // namespace vfsd

@@ -1,0 +1,229 @@
+// vfsd bench [--quick] [--markdown FILE] [--data FILE] [--steps N] [--repeat N]
+//
+// Reproduces the paper's timing table (sec. 7.1) with our models: per mesh,
+// a bending deformation of 250 RK4 steps with 10 smoothing steps, timed per
+// step on one thread and on all, plus the GPU backend when a context can be
+// made; volume error, flipped triangles and memory per vertex beside it.
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "base/error.h"
+#include "base/parallel.h"
+#include "cli/commands.h"
+#include "deform/quality.h"
+#include "io/mesh_file.h"
+#include "mesh/geometry.h"
+#if VFSD_HAS_GPU
+#include "gpu/context.h"
+#include "gpu/gpu_deformation.h"
+#endif
+
+namespace vfsd::cli {
+namespace {
+
+struct Model {
+    std::string name;  // shown in the table
+    std::string spec;  // mesh file or builtin:NAME:RES
+    int paper_vertices = 0;
+    double paper_ms = 0.0;  // GeForce 7800 GTX, sec. 7.1 (0: not in the paper)
+};
+
+struct Result {
+    Model model;
+    std::size_t vertices = 0, blend_vertices = 0;
+    double cpu1_ms = 0, cpu1_spread = 0, cpu_ms = 0, cpu_spread = 0, total_ms = 0, gpu_ms = -1;
+    double volume_error = 0, bytes_per_vertex = 0;
+    std::size_t flipped = 0;
+};
+
+std::vector<Model> models(bool quick) {
+    if (quick) return {{"box", "builtin:box:8", 0, 0}, {"bar", "builtin:bar:6", 0, 0}};
+    std::vector<Model> list = {{"box (fig. 4)", "builtin:box", 2462, 4}, {"bar (fig. 13)", "builtin:bar", 9730, 9},
+                               {"cylinder (fig. 14)", "builtin:cylinder", 21302, 20}};
+    const std::string cgal = std::string(VFSD_SOURCE_DIR) + "/assets/cgal/";
+    for (const auto& [name, file] : {std::pair{"camel (~ squirrel)", "camel.off"}, {"armadillo (~ horse)", "armadillo.off"},
+                                     {"bunny (~ hand)", "bunny00.off"}})
+        if (std::filesystem::exists(cgal + file)) list.push_back({name, cgal + file, 0, 0});
+    list.push_back({"sphere 40k", "builtin:sphere:6", 0, 0});
+    list.push_back({"cylinder 200k", "builtin:cylinder:316", 0, 0});
+    list.push_back({"cylinder 1M", "builtin:cylinder:707", 0, 0});
+    list.push_back({"cylinder 2M", "builtin:cylinder:1000", 0, 0});
+    return list;
+}
+
+// A bend of the top of the mesh's longest axis by about 90°: s = 0 on the top
+// 15 %, 1 on the bottom 40 %, linear between; the curve leaves the top along the
+// axis and turns toward the second-longest axis.
+void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurve& curve) {
+    const BoundingBox box = bounding_box(mesh.positions);
+    const Vec3 e = box.extent();
+    const int a = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
+    const int p = (a + 1) % 3;
+    const double lo = box.min[a], length = e[a];
+    region.s.resize(mesh.vertex_count());
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        region.s[v] = std::clamp((box.max[a] - 0.15 * length - mesh.positions[v][a]) / (0.45 * length), 0.0, 1.0);
+    Vec3 axis(0.0), side(0.0);
+    axis[a] = 1.0;
+    side[p] = 1.0;
+    Vec3 c0 = box.centre();
+    c0[a] = lo + length;
+    const double r = 0.5 * length;
+    curve = BezierCurve({c0, c0 + 0.55 * r * axis, c0 + r * axis + 0.45 * r * side, c0 + r * axis + r * side});
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// Half the spread between the 10th and 90th percentile, relative to the median.
+double spread(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    if (v.size() < 3) return 0.0;
+    const double m = v[v.size() / 2];
+    return m > 0 ? 0.5 * (v[v.size() * 9 / 10] - v[v.size() / 10]) / m : 0.0;
+}
+
+std::size_t state_bytes(const TriangleMesh& mesh, const VertexRings& rings) {
+    const std::size_t n = mesh.vertex_count();
+    // positions, next positions, normals, gradients, smoothing scratch (5 × Vec3), s, blend list, rings.
+    return n * (5 * sizeof(Vec3) + sizeof(double) + sizeof(std::uint32_t)) + rings.offsets.size() * 4 +
+           rings.neighbours.size() * 4 + rings.wedge.size();
+}
+
+void time_cpu(const TriangleMesh& mesh, const VertexRings& rings, const Region& region, const InnerMotion& motion,
+              const DeformationOptions& options, int repeat, unsigned threads, double& ms, double& rel_spread,
+              std::vector<Vec3>* final_positions) {
+    set_parallel_thread_limit(threads);
+    std::vector<double> all;
+    for (int r = 0; r < repeat; ++r) {
+        Deformation d(mesh.positions, rings, region, motion, options);
+        d.advance(1.0);
+        all.insert(all.end(), d.step_milliseconds().begin(), d.step_milliseconds().end());
+        if (final_positions) *final_positions = d.positions();
+    }
+    set_parallel_thread_limit(0);
+    ms = median(all);
+    rel_spread = spread(all);
+}
+
+#if VFSD_HAS_GPU
+double time_gpu(const TriangleMesh& mesh, const VertexRings& rings, const Region& region, const InnerMotion& motion,
+                DeformationOptions options, int steps) {
+    options.steps = steps;
+    gpu::GpuDeformation d(mesh.positions, rings, region, motion, options);
+    d.advance(1.0 / steps);  // warm up: shader compilation, first upload
+    d.finish();
+    const auto start = std::chrono::steady_clock::now();
+    const int taken = d.advance(1.0);
+    d.finish();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / taken;
+}
+#endif
+
+Result run_model(const Model& model, int steps, int repeat, bool with_gpu) {
+    Result r;
+    r.model = model;
+    const TriangleMesh mesh = load_mesh(model.spec);
+    const VertexRings rings = build_vertex_rings(mesh);
+    Region region;
+    BezierCurve curve;
+    bench_region_and_curve(mesh, region, curve);
+    const InnerMotion motion = InnerMotion::along_curve(curve, InnerMotionMode::Rotation, 0.0, 0.0);
+    DeformationOptions options;
+    options.steps = steps;
+    r.vertices = mesh.vertex_count();
+    r.blend_vertices = blend_vertices(region.s).size();
+    r.bytes_per_vertex = double(state_bytes(mesh, rings)) / double(r.vertices);
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<Vec3> final_positions;
+    time_cpu(mesh, rings, region, motion, options, repeat, 0, r.cpu_ms, r.cpu_spread, &final_positions);
+    r.total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / repeat;
+    time_cpu(mesh, rings, region, motion, options, 1, 1, r.cpu1_ms, r.cpu1_spread, nullptr);
+    const DeformationQuality q = measure_quality(mesh.positions, final_positions, mesh.triangles, region.s);
+    r.volume_error = q.volume_error_percent;
+    r.flipped = q.flipped_triangles;
+#if VFSD_HAS_GPU
+    if (with_gpu) r.gpu_ms = time_gpu(mesh, rings, region, motion, options, std::min(steps, 25));
+#else
+    (void)with_gpu;
+#endif
+    return r;
+}
+
+std::string ratio(double paper_ms, double ours) {
+    if (paper_ms <= 0.0 || ours <= 0.0) return "";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f×", paper_ms / ours);
+    return buf;
+}
+
+std::string markdown_table(const std::vector<Result>& results, unsigned threads) {
+    std::ostringstream out;
+    out << "| model | vertices | blend vertices | ms/step, 1 thread | ms/step, " << threads
+        << " threads | total 250 steps | paper ms/step | paper / ours | GPU ms/step | volume error | flipped | bytes/vertex |\n"
+        << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    char row[512];
+    for (const Result& r : results) {
+        std::snprintf(row, sizeof row, "| %s | %zu | %zu | %.2f ±%.0f%% | %.2f ±%.0f%% | %.0f ms | %s | %s | %s | %.3f %% | %zu | %.0f |\n",
+                      r.model.name.c_str(), r.vertices, r.blend_vertices, r.cpu1_ms, 100 * r.cpu1_spread, r.cpu_ms,
+                      100 * r.cpu_spread, r.total_ms, r.model.paper_ms > 0 ? std::to_string(int(r.model.paper_ms)).c_str() : "",
+                      ratio(r.model.paper_ms, r.cpu_ms).c_str(), r.gpu_ms >= 0 ? (std::to_string(r.gpu_ms).substr(0, 6)).c_str() : "",
+                      r.volume_error, r.flipped, r.bytes_per_vertex);
+        out << row;
+    }
+    return out.str();
+}
+
+std::string data_lines(const std::vector<Result>& results) {
+    std::ostringstream out;
+    out << "# vertices cpu1_ms cpuN_ms gpu_ms (gpu -1: not run)\n";
+    for (const Result& r : results) out << r.vertices << ' ' << r.cpu1_ms << ' ' << r.cpu_ms << ' ' << r.gpu_ms << '\n';
+    return out.str();
+}
+
+}  // namespace
+
+int run_bench(const Args& args) {
+    args.expect({"quick", "markdown", "data", "steps", "repeat", "no-gpu"}, 0, 0);
+    const bool quick = args.has("quick");
+    const int steps = static_cast<int>(args.get_number("steps", quick ? 10 : 250));
+    const int repeat = static_cast<int>(args.get_number("repeat", quick ? 1 : 3));
+    if (steps < 1 || repeat < 1) throw UsageError("--steps and --repeat must be positive");
+    bool with_gpu = !args.has("no-gpu");
+#if VFSD_HAS_GPU
+    std::unique_ptr<gpu::Context> context;
+    try {
+        if (with_gpu) context = gpu::create_headless_context();
+    } catch (const Error& e) {
+        std::fprintf(stderr, "bench: no GPU backend (%s)\n", e.what());
+        with_gpu = false;
+    }
+#else
+    with_gpu = false;
+#endif
+#if VFSD_HAS_GPU
+    if (context) std::printf("GPU backend: %s (%s)\n", context->renderer().c_str(), context->kind().c_str());
+#endif
+    std::vector<Result> results;
+    for (const Model& m : models(quick)) {
+        results.push_back(run_model(m, steps, repeat, with_gpu));
+        const Result& r = results.back();
+        std::printf("%-22s %9zu vertices  %8.3f ms/step (1 thread)  %8.3f ms/step (%u threads)  gpu %8.3f  vol %.3f%%  flips %zu  %.0f B/vertex\n",
+                    m.name.c_str(), r.vertices, r.cpu1_ms, r.cpu_ms, parallel_thread_count(), r.gpu_ms, r.volume_error,
+                    r.flipped, r.bytes_per_vertex);
+        std::fflush(stdout);
+    }
+    if (args.has("markdown")) write_file_atomically(args.get("markdown"), markdown_table(results, parallel_thread_count()));
+    if (args.has("data")) write_file_atomically(args.get("data"), data_lines(results));
+    return kExitOk;
+}
+
+}  // namespace vfsd::cli
