@@ -57,9 +57,9 @@ std::vector<Model> models(bool quick) {
     return list;
 }
 
-// A bend of the top of the mesh's longest axis by about 90°: s = 0 on the top
+// A bend of the top of the mesh's longest axis by about 45°: s = 0 on the top
 // 15 %, 1 on the bottom 40 %, linear between; the curve leaves the top along the
-// axis and turns toward the second-longest axis.
+// axis and turns toward the next axis.
 void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurve& curve) {
     const BoundingBox box = bounding_box(mesh.positions);
     const Vec3 e = box.extent();
@@ -75,7 +75,7 @@ void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurv
     Vec3 c0 = box.centre();
     c0[a] = lo + length;
     const double r = 0.5 * length;
-    curve = BezierCurve({c0, c0 + 0.55 * r * axis, c0 + r * axis + 0.45 * r * side, c0 + r * axis + r * side});
+    curve = BezierCurve({c0, c0 + 0.3 * r * axis, c0 + 0.55 * r * axis + 0.15 * r * side, c0 + 0.7 * r * axis + 0.35 * r * side});
 }
 
 double median(std::vector<double> v) {

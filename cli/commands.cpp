@@ -41,7 +41,7 @@ const std::vector<Command>& commands() {
         {"bench", "time the deformation per step on the paper's models and larger meshes",
          "usage: vfsd bench [--quick] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--no-gpu]\n"
          "\n"
-         "Per mesh: a 90-degree bend of 250 RK4 steps (10 smoothing steps each), ms per step\n"
+         "Per mesh: a 45-degree bend of 250 RK4 steps (10 smoothing steps each), ms per step\n"
          "(median and spread over --repeat runs) on one thread and on all, the GPU backend\n"
          "when a headless context can be made, volume error, flipped triangles and the\n"
          "deformation state's bytes per vertex. --quick runs two small meshes for a few\n"
