@@ -1,0 +1,606 @@
+// vfsd-web: the browser editor's shell. Like desktop/, a thin layer around the
+// editor core (engine/editor): pointer events from the page go to the same
+// ToolController and Camera, every control to the same EditorSession, and the
+// engine's renderer draws into a WebGL2 canvas. The GPU path runs in that canvas's
+// context when it renders to float textures (EXT_color_buffer_float); otherwise
+// the CPU path runs and the stats say why.
+//
+// The page (web/vfsd-page.js) talks to this file through four C functions:
+// vfsd_command (JSON in, JSON out: every control and the automation API),
+// vfsd_pointer, vfsd_wheel and vfsd_array (positions or s for the tests). Each
+// frame ends by handing the page the overlay (control points, loops, the brush)
+// to draw on the 2D canvas above the WebGL one.
+
+#include <emscripten.h>
+#include <emscripten/html5.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "base/error.h"
+#include "editor/camera.h"
+#include "editor/gpu_live_deformation.h"
+#include "editor/picking.h"
+#include "editor/script.h"
+#include "editor/session.h"
+#include "editor/session_view.h"
+#include "editor/tools.h"
+#include "gpu/capabilities.h"
+#include "gpu/context.h"
+#include "gpu/gl.h"
+#include "gpu/renderer.h"
+#include "scene/scene.h"
+
+// The page's side (web/vfsd-page.js): start-up options, and one call per frame.
+EM_JS(char*, vfsd_page_options, (), {
+    const text = JSON.stringify(Module.vfsdOptions || {});
+    const size = lengthBytesUTF8(text) + 1;
+    const out = _malloc(size);
+    stringToUTF8(text, out, size);
+    return out;
+});
+EM_JS(void, vfsd_page_frame, (const char* overlay), {
+    if (Module.vfsdFrame) Module.vfsdFrame(UTF8ToString(overlay));
+});
+EM_JS(void, vfsd_page_context, (int lost), {
+    if (Module.vfsdContext) Module.vfsdContext(lost != 0);
+});
+
+namespace vfsd::web {
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kCanvas = "#vfsd-canvas";
+constexpr const char* kDefaultScene = "/scenes/default.json";
+constexpr const char* kFiles = "/files";  // uploaded meshes and scenes, exports
+// Per frame the deformation may take about this long, so the page stays responsive.
+constexpr double kStepBudgetMs = 15.0;
+
+class WebGlContext final : public gpu::Context {
+public:
+    explicit WebGlContext(EMSCRIPTEN_WEBGL_CONTEXT_HANDLE handle) : handle_(handle) {}
+    void make_current() override { emscripten_webgl_make_context_current(handle_); }
+    std::string kind() const override { return "webgl2"; }
+
+private:
+    EMSCRIPTEN_WEBGL_CONTEXT_HANDLE handle_;
+};
+
+// The editor's tools plus the web's "handle" tool (a click places a handle).
+std::optional<editor::Tool> core_tool(const std::string& name) {
+    for (const auto t : {editor::Tool::navigate, editor::Tool::geodesic, editor::Tool::paint_inner,
+                         editor::Tool::paint_outer, editor::Tool::erase, editor::Tool::paint_s, editor::Tool::loops})
+        if (name == editor::tool_name(t)) return t;
+    return std::nullopt;
+}
+
+std::string read_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+class App final : public editor::ScriptHost {
+public:
+    explicit App(const json& options);
+
+    void frame();
+    json command(const json& c);
+    void pointer(int kind, double x, double y, int button, bool shift);
+    void wheel(double delta, double x, double y);
+    // Positions (0) or s (1) of the current shape as doubles; returns the count.
+    std::size_t array(int which);
+    const std::vector<double>& array_data() const { return array_; }
+
+    // ScriptHost
+    void screenshot(const std::string&, bool) override { log("script: screenshots are the page's (canvas)"); }
+    void loaded() override;
+    void log(const std::string& line) override { std::printf("%s\n", line.c_str()); }
+
+    void context_lost();
+    void context_restored();
+
+private:
+    editor::Viewport viewport() const;
+    void init_gl();
+    void open(const std::string& path);
+    void load_scene(json scene);
+    void place_handle(double x, double y);
+    void set(const json& c);
+    void action(const std::string& name);
+    json state() const;
+    json overlay() const;
+
+    EMSCRIPTEN_WEBGL_CONTEXT_HANDLE gl_ = 0;
+    bool lost_ = false;
+    bool allow_float_ = true;
+    std::string backend_ = "auto";
+    std::string gl_renderer_;
+    editor::DeformationFactory gpu_;
+    std::string gpu_reason_;
+
+    std::unique_ptr<editor::EditorSession> session_;
+    editor::ToolController tools_;
+    bool handle_tool_ = false;
+    editor::Camera camera_;
+    editor::SessionView view_;
+    std::unique_ptr<editor::ScriptRunner> script_;
+    bool force_cpu_ = false;
+    int region_gesture_ = 0, curve_gesture_ = 0;  // slider drags open one undo step
+
+    enum class Drag { none, tool, orbit, pan } drag_ = Drag::none;
+    double mouse_x_ = -1.0, mouse_y_ = -1.0;
+    std::string load_error_, status_;
+    std::vector<double> array_;
+};
+
+App::App(const json& options) {
+    allow_float_ = options.value("float", true);
+    backend_ = options.value("backend", std::string("auto"));
+    std::filesystem::create_directories(kFiles);
+    init_gl();
+    session_ = std::make_unique<editor::EditorSession>(gpu_, gpu_reason_);
+    log("WebGL2: " + gl_renderer_ + (gpu_ ? " (GPU path)" : " (CPU path: " + gpu_reason_ + ")"));
+    try {
+        session_->open_scene_file(kDefaultScene);
+    } catch (const std::exception& e) {
+        log(std::string("default scene: ") + e.what());
+        session_->open_mesh("builtin:box");
+    }
+    tools_.adapt_to(*session_);
+    loaded();
+}
+
+void App::init_gl() {
+    EmscriptenWebGLContextAttributes attrs;
+    emscripten_webgl_init_context_attributes(&attrs);
+    attrs.majorVersion = 2;
+    attrs.minorVersion = 0;
+    attrs.alpha = false;
+    attrs.antialias = true;
+    attrs.preserveDrawingBuffer = true;  // the canvas can be read back (screenshots, tests)
+    attrs.enableExtensionsByDefault = false;
+    if (!gl_) gl_ = emscripten_webgl_create_context(kCanvas, &attrs);
+    if (gl_ <= 0) throw std::runtime_error("this browser gives no WebGL2 context");
+    emscripten_webgl_make_context_current(gl_);
+    // Float render targets decide the backend; ?float=0 leaves the extension off
+    // to show the CPU fallback.
+    const bool float_targets = allow_float_ && emscripten_webgl_enable_extension(gl_, "EXT_color_buffer_float");
+    gpu::Capabilities caps = gpu::query_capabilities();
+    caps.float_render_targets = float_targets;
+    gl_renderer_ = caps.renderer;
+    gpu_ = {};
+    gpu_reason_.clear();
+    if (backend_ == "cpu") {
+        gpu_reason_ = "CPU chosen (backend=cpu)";
+        return;
+    }
+    try {
+        gpu::require_gpu_support(caps);
+        gpu_ = editor::make_gpu_deformation;
+    } catch (const std::exception& e) {
+        gpu_reason_ = e.what();
+    }
+}
+
+editor::Viewport App::viewport() const {
+    int w = 1, h = 1;
+    emscripten_get_canvas_element_size(kCanvas, &w, &h);
+    return {std::max(w, 1), std::max(h, 1)};
+}
+
+void App::loaded() {
+    camera_ = editor::Camera();
+    camera_.frame(gpu::deformation_frame_points(session_->base_positions(), session_->s(), session_->motion()),
+                  viewport().aspect());
+}
+
+void App::open(const std::string& path) {
+    // A failed load keeps the current document and says why.
+    try {
+        session_->open(path);
+        tools_.adapt_to(*session_);
+        loaded();
+        load_error_.clear();
+        status_ = "opened " + std::filesystem::path(path).filename().string();
+    } catch (const std::exception& e) {
+        load_error_ = std::filesystem::path(path).filename().string() + ": " + e.what();
+        log("open failed: " + load_error_);
+    }
+}
+
+void App::load_scene(json scene) {
+    // Without "mesh" the scene applies to the current mesh.
+    if (!scene.is_object()) throw InputError("scene: expected a JSON object");
+    if (!scene.contains("mesh")) scene["mesh"] = session_->mesh_name();
+    session_->open_scene(parse_scene(scene, kFiles, "scene"));
+    tools_.adapt_to(*session_);
+    loaded();
+    load_error_.clear();
+}
+
+void App::place_handle(double x, double y) {
+    // Handle mode (sec. 6.2): the handle sits on the surface, its normal along the
+    // surface normal; its target starts a quarter diagonal further out.
+    const auto hit = editor::pick_surface(camera_.ray(x, y, viewport()), session_->positions(), session_->triangles());
+    if (!hit) return;
+    const Triangle& t = session_->triangles()[hit->point.triangle];
+    const auto& p = session_->positions();
+    Vec3 n = glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]);
+    if (glm::length(n) == 0.0) return;
+    n = glm::normalize(n);
+    if (glm::dot(n, camera_.forward()) > 0.0) n = -n;
+    const Vec3 any = std::abs(n.x) < 0.9 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
+    HandleFrame from;
+    from.position = hit->position;
+    from.normal = n;
+    from.binormal = glm::normalize(glm::cross(n, any));
+    HandleFrame to = from;
+    to.position += 0.25 * session_->diagonal() * n;
+    session_->use_handle(from, to);
+    // Now drag the target (control point 1).
+    handle_tool_ = false;
+    tools_.tool = editor::Tool::navigate;
+}
+
+void App::pointer(int kind, double x, double y, int button, bool shift) {
+    const editor::Viewport v = viewport();
+    const double dx = x - mouse_x_, dy = y - mouse_y_;
+    mouse_x_ = x, mouse_y_ = y;
+    if (kind == 0) {  // press
+        if (drag_ != Drag::none) return;
+        if (button != 0 || shift) drag_ = Drag::pan;
+        else if (handle_tool_) place_handle(x, y);
+        else if (tools_.press(*session_, camera_, v, x, y)) drag_ = Drag::tool;
+        else drag_ = Drag::orbit;
+    } else if (kind == 1) {  // move
+        switch (drag_) {
+            case Drag::tool: tools_.drag(*session_, camera_, v, x, y); break;
+            case Drag::orbit: camera_.orbit(dx, dy); break;
+            case Drag::pan: camera_.pan(dx, dy, v); break;
+            case Drag::none: break;
+        }
+    } else if (kind == 2) {  // release
+        if (drag_ == Drag::tool) tools_.release(*session_);
+        drag_ = Drag::none;
+    } else {  // left the canvas
+        mouse_x_ = mouse_y_ = -1.0;
+    }
+}
+
+void App::wheel(double delta, double x, double y) {
+    camera_.zoom(std::pow(0.85, -delta / 100.0), x, y, viewport());
+}
+
+void App::set(const json& c) {
+    if (c.contains("tool")) {
+        const std::string name = c["tool"];
+        handle_tool_ = name == "handle";
+        if (!handle_tool_) {
+            const auto t = core_tool(name);
+            if (!t) throw InputError("tool: unknown '" + name + "'");
+            tools_.tool = *t;
+        }
+    }
+    if (c.contains("radius")) tools_.brush.radius = c["radius"].get<double>();
+    if (c.contains("s_target")) tools_.brush.s_target = c["s_target"].get<double>();
+    if (c.contains("strength")) tools_.brush.strength = c["strength"].get<double>();
+    if (c.contains("axis")) tools_.axis = c["axis"].get<int>();
+    if (c.contains("wireframe")) view_.wireframe = c["wireframe"].get<bool>();
+    if (c.contains("force_cpu")) session_->set_force_cpu(force_cpu_ = c["force_cpu"].get<bool>());
+    if (c.contains("target_time")) session_->set_target_time(c["target_time"].get<double>());
+    if (c.contains("g_min") || c.contains("g_max")) {
+        const double d = session_->diagonal();
+        const double lo = c.value("g_min", tools_.g_min), hi = c.value("g_max", tools_.g_max);
+        tools_.g_min = std::min(lo, hi - 1e-4 * d);
+        tools_.g_max = std::max(hi, lo + 1e-4 * d);
+        const bool gesture = c.value("gesture", false) && !region_gesture_++;
+        if (gesture) session_->begin_region_gesture();
+        session_->set_geodesic_range(tools_.g_min, tools_.g_max);
+    }
+    if (c.contains("inner_motion") || c.contains("alpha")) {
+        editor::CurveSettings curve = session_->curve();
+        if (c.contains("inner_motion"))
+            curve.inner_motion = c["inner_motion"] == "translation" ? InnerMotionMode::Translation : InnerMotionMode::Rotation;
+        if (c.contains("alpha")) {
+            curve.twist_degrees[0] = c["alpha"][0].get<double>();
+            curve.twist_degrees[1] = c["alpha"][1].get<double>();
+        }
+        const bool gesture = c.value("gesture", false) && !curve_gesture_++;
+        if (gesture) session_->begin_curve_gesture();
+        session_->set_curve(curve);
+    }
+}
+
+void App::action(const std::string& name) {
+    editor::EditorSession& s = *session_;
+    if (name == "play") s.play();
+    else if (name == "pause") s.pause();
+    else if (name == "play-pause") s.moving() ? s.pause() : s.play();
+    else if (name == "reset") s.reset();
+    else if (name == "apply") s.apply();
+    else if (name == "undo") s.undo();
+    else if (name == "redo") s.redo();
+    else if (name == "add-segment") s.add_segment();
+    else if (name == "remove-segment") s.remove_segment();
+    else if (name == "close-loop") tools_.close_loop();
+    else if (name == "clear-loops") tools_.clear_loops();
+    else if (name == "end-gesture") {
+        // The end of a slider drag: its changes become one undo step.
+        if (region_gesture_) s.end_region_gesture("geodesic range");
+        if (curve_gesture_) s.end_curve_gesture("curve settings");
+        region_gesture_ = curve_gesture_ = 0;
+    } else if (name == "frame") loaded();
+    else if (name.rfind("view:", 0) == 0) {
+        const std::string v = name.substr(5);
+        const std::pair<const char*, editor::StandardView> views[] = {
+            {"front", editor::StandardView::front}, {"back", editor::StandardView::back},
+            {"left", editor::StandardView::left},   {"right", editor::StandardView::right},
+            {"top", editor::StandardView::top},     {"bottom", editor::StandardView::bottom},
+            {"iso", editor::StandardView::iso}};
+        for (const auto& [n, view] : views)
+            if (v == n) camera_.set_view(view);
+    } else throw InputError("action: unknown '" + name + "'");
+}
+
+json App::state() const {
+    const editor::EditorSession& s = *session_;
+    const editor::SessionStats& st = s.stats();
+    json stats = {{"vertices", st.vertices},
+                  {"triangles", st.triangles},
+                  {"time", s.time()},
+                  {"backend", st.backend},
+                  {"ms_per_step", st.ms_per_step},
+                  {"volume_error_percent", st.volume_error_percent},
+                  {"flipped_triangles", st.flipped_triangles}};
+    const editor::CurveSettings& c = s.curve();
+    return {{"stats", stats},
+            {"backend_reason", st.backend_reason},
+            {"renderer", gl_renderer_},
+            {"target_time", s.target_time()},
+            {"moving", s.moving()},
+            {"tool", handle_tool_ ? "handle" : editor::tool_name(tools_.tool)},
+            {"radius", tools_.brush.radius},
+            {"s_target", tools_.brush.s_target},
+            {"strength", tools_.brush.strength},
+            {"g_min", tools_.g_min},
+            {"g_max", tools_.g_max},
+            {"axis", tools_.axis},
+            {"diagonal", s.diagonal()},
+            {"inner_motion", c.inner_motion == InnerMotionMode::Translation ? "translation" : "rotation"},
+            {"alpha", {c.twist_degrees[0], c.twist_degrees[1]}},
+            {"is_handle", c.curve.is_handle},
+            {"undo", s.history().undo_count()},
+            {"redo", s.history().redo_count()},
+            {"mesh", s.mesh_name()},
+            {"warnings", s.warnings()},
+            {"message", tools_.message},
+            {"load_error", load_error_},
+            {"status", status_},
+            {"loops", {tools_.loops().size(), tools_.loop_in_progress().size()}},
+            {"context_lost", lost_},
+            {"force_cpu", force_cpu_},
+            {"script", script_ ? json{{"done", script_->done()}, {"error", script_->error()}} : json()}};
+}
+
+json App::overlay() const {
+    // What the page draws over the canvas, in canvas pixels.
+    const editor::Viewport v = viewport();
+    const auto px = [&](const Vec3& p) {
+        const glm::dvec3 s = camera_.project(p, v);
+        return s.z <= 1.0 ? json::array({s.x, s.y}) : json();
+    };
+    json out = {{"polygon", json::array()}, {"points", json::array()}, {"loops", json::array()},
+                {"current", json::array()}, {"brush", nullptr}};
+    const std::vector<Vec3> points = session_->control_points();
+    const bool handle = session_->curve().curve.is_handle;
+    for (std::size_t i = 0; i + 1 < points.size(); ++i)
+        if (handle || i % 3 != 1) out["polygon"].push_back({px(points[i]), px(points[i + 1])});
+    const bool navigating = tools_.tool == editor::Tool::navigate && !handle_tool_ && mouse_x_ >= 0.0;
+    const auto hovered = navigating ? tools_.hovered_point(*session_, camera_, v, mouse_x_, mouse_y_) : std::nullopt;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const bool hot = hovered == i || tools_.dragged_point() == i;
+        out["points"].push_back({{"at", px(points[i])}, {"knot", handle || i % 3 == 0}, {"hot", hot}});
+    }
+    const auto& p = session_->positions();
+    const auto& t = session_->triangles();
+    for (const SurfaceLoop& loop : tools_.loops()) {
+        json l = json::array();
+        for (const SurfacePoint& q : loop) l.push_back(px(surface_position(p, t, q)));
+        out["loops"].push_back(l);
+    }
+    for (const SurfacePoint& q : tools_.loop_in_progress()) out["current"].push_back(px(surface_position(p, t, q)));
+    const bool brush = tools_.tool == editor::Tool::paint_inner || tools_.tool == editor::Tool::paint_outer ||
+                       tools_.tool == editor::Tool::erase || tools_.tool == editor::Tool::paint_s;
+    if (brush && !handle_tool_ && mouse_x_ >= 0.0) {
+        const auto hit = editor::pick_surface(camera_.ray(mouse_x_, mouse_y_, v), p, t);
+        if (hit) {
+            const glm::dvec3 c = camera_.project(hit->position, v);
+            const glm::dvec3 r = camera_.project(hit->position + tools_.brush.radius * camera_.right(), v);
+            out["brush"] = {c.x, c.y, std::hypot(r.x - c.x, r.y - c.y)};
+        }
+    }
+    return out;
+}
+
+json App::command(const json& c) {
+    const std::string cmd = c.value("cmd", std::string());
+    if (cmd == "state") return state();
+    if (cmd == "set") {
+        set(c);
+        return state();
+    }
+    if (cmd == "action") {
+        action(c.value("name", std::string()));
+        return state();
+    }
+    if (cmd == "open") {
+        open(c.value("path", std::string()));
+        return {{"load_error", load_error_}};
+    }
+    if (cmd == "load-scene") {
+        load_scene(c.value("scene", json()));
+        return state();
+    }
+    if (cmd == "export-mesh") {
+        const std::string format = c.value("format", std::string("ply"));
+        if (format != "obj" && format != "ply" && format != "glb" && format != "off")
+            throw InputError("export: format must be obj, ply, glb or off");
+        const std::string stem = std::filesystem::path(session_->mesh_name()).stem().string();
+        const std::string name = (stem.rfind("builtin:", 0) == 0 ? stem.substr(8) : stem) + "-deformed." + format;
+        const std::string path = std::string(kFiles) + "/" + name;
+        session_->export_mesh(path);
+        return {{"path", path}, {"name", name}};
+    }
+    if (cmd == "export-scene") {
+        // Written beside the uploaded meshes so the mesh path is the file's name;
+        // after an apply the baked mesh comes along (NAME.mesh.ply).
+        const std::string path = std::string(kFiles) + "/vfsd-scene.json";
+        session_->save_scene(path);
+        json out = {{"scene", json::parse(read_file(path))}, {"path", path}, {"files", json::array()}};
+        const std::string mesh = out["scene"].value("mesh", std::string());
+        if (mesh == "vfsd-scene.mesh.ply") out["files"].push_back(std::string(kFiles) + "/" + mesh);
+        return out;
+    }
+    if (cmd == "checksum") {
+        // A cheap fingerprint of the current positions.
+        double sum = 0.0;
+        const auto& p = session_->positions();
+        for (std::size_t i = 0; i < p.size(); ++i) sum += double(1 + i % 7) * (p[i].x + 2.0 * p[i].y + 3.0 * p[i].z);
+        return {{"checksum", sum}};
+    }
+    if (cmd == "script") {
+        script_ = std::make_unique<editor::ScriptRunner>(editor::parse_script(c.at("actions").dump(), "script"));
+        return state();
+    }
+    if (cmd == "context") {
+        // Test hook: what the page's context-loss handlers call.
+        c.value("lost", false) ? context_lost() : context_restored();
+        return state();
+    }
+    throw InputError("command: unknown '" + cmd + "'");
+}
+
+std::size_t App::array(int which) {
+    array_.clear();
+    if (which == 0) {
+        for (const Vec3& p : session_->positions()) array_.insert(array_.end(), {p.x, p.y, p.z});
+    } else {
+        array_ = session_->s();
+    }
+    return array_.size();
+}
+
+void App::frame() {
+    if (lost_) return;
+    try {
+        if (script_ && !script_->done()) {
+            script_->run_frame(*session_, tools_, camera_, viewport(), *this);
+            if (script_->done()) log(script_->failed() ? "script failed: " + script_->error() : "script: done");
+        }
+        // Integrate toward the target within the frame's budget.
+        const double ms = std::max(session_->stats().ms_per_step, 0.05);
+        session_->update(std::clamp(int(kStepBudgetMs / ms), 1, 250));
+        view_.draw(*session_, camera_, viewport());
+    } catch (const std::exception& e) {
+        status_ = e.what();
+        log(std::string("frame: ") + e.what());
+    }
+    vfsd_page_frame(overlay().dump().c_str());
+}
+
+void App::context_lost() {
+    // Nothing on the GPU survives; the mesh, region and curve live on the CPU.
+    lost_ = true;
+    drag_ = Drag::none;
+    vfsd_page_context(1);
+}
+
+void App::context_restored() {
+    // New GL objects for everything; the deformation restarts from the CPU state
+    // and integrates back to the target time.
+    view_.reset();
+    session_->set_force_cpu(!force_cpu_);  // each switch drops the deformation
+    session_->set_force_cpu(force_cpu_);
+    init_gl();
+    lost_ = false;
+    vfsd_page_context(0);
+}
+
+std::unique_ptr<App> app;
+std::string reply;
+
+}  // namespace
+}  // namespace vfsd::web
+
+using vfsd::web::app;
+using vfsd::web::reply;
+
+extern "C" {
+
+// Runs one command (a JSON object); returns JSON, with "error" when it failed.
+EMSCRIPTEN_KEEPALIVE const char* vfsd_command(const char* text) {
+    try {
+        if (!app) throw std::runtime_error("the editor is not running");
+        reply = app->command(nlohmann::json::parse(text)).dump();
+    } catch (const std::exception& e) {
+        reply = nlohmann::json{{"error", e.what()}}.dump();
+    }
+    return reply.c_str();
+}
+
+// kind: 0 press, 1 move, 2 release, 3 leave; canvas pixels, origin top left.
+EMSCRIPTEN_KEEPALIVE void vfsd_pointer(int kind, double x, double y, int button, int shift) {
+    if (app) app->pointer(kind, x, y, button, shift != 0);
+}
+
+EMSCRIPTEN_KEEPALIVE void vfsd_wheel(double delta, double x, double y) {
+    if (app) app->wheel(delta, x, y);
+}
+
+// Fills a buffer with the positions (which = 0, xyz per vertex) or s (1); returns
+// its address (the count is vfsd_array_size()).
+EMSCRIPTEN_KEEPALIVE const double* vfsd_array(int which) {
+    if (!app) return nullptr;
+    app->array(which);
+    return app->array_data().data();
+}
+
+EMSCRIPTEN_KEEPALIVE int vfsd_array_size() { return app ? int(app->array_data().size()) : 0; }
+
+}  // extern "C"
+
+int main() {
+    char* text = vfsd_page_options();
+    const nlohmann::json options = nlohmann::json::parse(text, nullptr, false);
+    std::free(text);
+    try {
+        app = std::make_unique<vfsd::web::App>(options.is_object() ? options : nlohmann::json::object());
+    } catch (const std::exception& e) {
+        EM_ASM({ if (Module.vfsdFailed) Module.vfsdFailed(UTF8ToString($0)); }, e.what());
+        return 1;
+    }
+    emscripten_set_webglcontextlost_callback(
+        "#vfsd-canvas", nullptr, true, [](int, const void*, void*) -> EM_BOOL {
+            app->context_lost();
+            return EM_TRUE;  // prevents the default, so the context can come back
+        });
+    emscripten_set_webglcontextrestored_callback(
+        "#vfsd-canvas", nullptr, true, [](int, const void*, void*) -> EM_BOOL {
+            app->context_restored();
+            return EM_TRUE;
+        });
+    emscripten_set_main_loop([] { app->frame(); }, 0, false);
+    return 0;
+}

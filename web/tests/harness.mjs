@@ -1,0 +1,74 @@
+// Shared set-up of the browser tests: the site (VFSD_WEB_SITE) served on
+// 127.0.0.1 by a small static server, Debian's Chromium in headless mode with
+// SwiftShader's WebGL2 (docs/web.md), and the page's console collected.
+import http from 'node:http';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+
+const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.wasm': 'application/wasm',
+                '.json': 'application/json', '.png': 'image/png' };
+
+export function serve(dir) {
+  const server = http.createServer((req, res) => {
+    const url = new URL(req.url, 'http://127.0.0.1');
+    const file = path.join(dir, path.normalize(decodeURIComponent(url.pathname)).replace(/^(\.\.[/\\])+/, ''));
+    const target = file.endsWith(path.sep) ? path.join(file, 'index.html') : file;
+    fs.readFile(target, (err, data) => {
+      if (err) { res.writeHead(404); res.end('not found'); return; }
+      res.writeHead(200, { 'Content-Type': types[path.extname(target)] || 'application/octet-stream' });
+      res.end(data);
+    });
+  });
+  return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
+}
+
+export const chromiumArgs = () => [
+  '--headless=new', '--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+  '--disable-gpu-sandbox', '--disable-background-networking', '--disable-component-update', '--disable-sync',
+  '--no-first-run', '--disable-dev-shm-usage',
+];
+
+// Opens the page (query: e.g. '?float=0'); returns what a test needs.
+export async function openPage(query = '', viewport = { width: 1200, height: 800 }) {
+  const site = process.env.VFSD_WEB_SITE;
+  if (!site || !fs.existsSync(path.join(site, 'index.html'))) throw new Error('VFSD_WEB_SITE: no built site');
+  const server = await serve(site);
+  const userData = fs.mkdtempSync(path.join(os.tmpdir(), 'vfsd-chromium-'));
+  const browser = await chromium.launchPersistentContext(userData, {
+    executablePath: process.env.VFSD_CHROMIUM || '/usr/bin/chromium',
+    headless: true,
+    args: chromiumArgs(),
+    viewport,
+    acceptDownloads: true,
+  });
+  const page = browser.pages()[0] || await browser.newPage();
+  const errors = [], log = [];
+  page.on('console', (m) => {
+    log.push(`${m.type()}: ${m.text()}`);
+    if (m.type() === 'error') errors.push(m.text());
+  });
+  page.on('pageerror', (e) => errors.push(String(e)));
+  const url = `http://127.0.0.1:${server.address().port}/index.html${query}`;
+  await page.goto(url);
+  await page.evaluate(() => window.vfsd.ready.then(() => true));
+  const close = async () => {
+    await browser.close();
+    server.close();
+    fs.rmSync(userData, { recursive: true, force: true });
+  };
+  return { page, errors, log, url, close };
+}
+
+// Where tests write screenshots and downloads.
+export function outDir() {
+  const dir = process.env.VFSD_WEB_OUT || fs.mkdtempSync(path.join(os.tmpdir(), 'vfsd-web-'));
+  fs.mkdirSync(dir, { recursive: true });
+  return dir;
+}
+
+export function check(condition, message) {
+  if (!condition) throw new Error('check failed: ' + message);
+  console.log('  ok: ' + message);
+}

@@ -1,0 +1,439 @@
+// The browser editor's page: wires the controls, the pointer, the keyboard and
+// files to the engine (web/main.cpp, compiled to vfsd.js + vfsd.wasm), draws the
+// overlay (control points, loops, brush) on a 2D canvas above the WebGL2 one, and
+// exposes the automation API window.vfsd (docs/web.md).
+'use strict';
+
+(function () {
+  const $ = (id) => document.getElementById(id);
+  const params = new URLSearchParams(location.search);
+  const glCanvas = $('vfsd-canvas');
+  const overlayCanvas = $('vfsd-overlay');
+  const overlay2d = overlayCanvas.getContext('2d');
+
+  let readyResolve, readyReject;
+  const ready = new Promise((resolve, reject) => { readyResolve = resolve; readyReject = reject; });
+  let started = false;
+  let frameCount = 0;
+  let lastState = null;
+  const frameWaiters = [];  // functions called each frame until they return true
+
+  // ---- the engine ----------------------------------------------------------------
+
+  // One JSON command (web/main.cpp, App::command); throws on an error reply.
+  function command(obj) {
+    const text = Module.ccall('vfsd_command', 'string', ['string'], [JSON.stringify(obj)]);
+    const out = JSON.parse(text);
+    if (out && typeof out.error === 'string' && Object.keys(out).length === 1) throw new Error(out.error);
+    return out;
+  }
+
+  // The UI's use: show errors instead of throwing.
+  function run(obj) {
+    try {
+      const out = command(obj);
+      if (out && out.stats) refresh(out);
+      return out;
+    } catch (e) {
+      showError(e.message);
+      return null;
+    }
+  }
+
+  function showError(text) {
+    $('errors').textContent = text || '';
+    if (text) console.warn('vfsd: ' + text);
+  }
+
+  function array(which) {
+    const ptr = Module.ccall('vfsd_array', 'number', ['number'], [which]);
+    const n = Module.ccall('vfsd_array_size', 'number', [], []);
+    return Float64Array.from(Module.HEAPF64.subarray(ptr / 8, ptr / 8 + n));
+  }
+
+  const Module = window.Module = {
+    canvas: glCanvas,
+    vfsdOptions: { float: params.get('float') !== '0', backend: params.get('backend') || 'auto' },
+    print: (text) => console.log(text),
+    printErr: (text) => console.warn(text),
+    vfsdFrame: onFrame,
+    vfsdContext: (lost) => {
+      $('status').textContent = lost ? 'WebGL context lost: waiting for it to come back…'
+                                     : 'WebGL context restored; the deformation is recomputed';
+    },
+    vfsdFailed: (text) => {
+      $('loading').textContent = 'The editor could not start: ' + text;
+      readyReject(new Error(text));
+    },
+    onAbort: (what) => {
+      $('loading').hidden = false;
+      $('loading').textContent = 'The engine stopped: ' + what;
+    },
+  };
+
+  // ---- sizes ---------------------------------------------------------------------
+
+  function resize() {
+    const dpr = window.devicePixelRatio || 1;
+    const w = Math.max(1, Math.round(glCanvas.clientWidth * dpr));
+    const h = Math.max(1, Math.round(glCanvas.clientHeight * dpr));
+    for (const c of [glCanvas, overlayCanvas]) {
+      if (c.width !== w) c.width = w;
+      if (c.height !== h) c.height = h;
+    }
+  }
+  new ResizeObserver(resize).observe(glCanvas);
+  resize();
+
+  // ---- each frame ----------------------------------------------------------------
+
+  function onFrame(overlayText) {
+    resize();
+    drawOverlay(JSON.parse(overlayText));
+    frameCount++;
+    if (!started) {
+      started = true;
+      $('loading').hidden = true;
+      refresh(command({ cmd: 'state' }));
+      readyResolve(api);
+    }
+    if (frameCount % 6 === 0 || frameWaiters.length) refresh(command({ cmd: 'state' }));
+    for (let i = frameWaiters.length - 1; i >= 0; i--) {
+      if (frameWaiters[i](lastState)) frameWaiters.splice(i, 1);
+    }
+  }
+
+  function drawOverlay(o) {
+    const g = overlay2d;
+    g.clearRect(0, 0, overlayCanvas.width, overlayCanvas.height);
+    g.lineWidth = 1.5;
+    g.strokeStyle = 'rgba(90, 90, 110, 0.8)';
+    for (const [a, b] of o.polygon) {
+      if (!a || !b) continue;
+      g.beginPath(); g.moveTo(a[0], a[1]); g.lineTo(b[0], b[1]); g.stroke();
+    }
+    for (const p of o.points) {
+      if (!p.at) continue;
+      const r = p.hot ? 7 : 5;
+      g.beginPath(); g.arc(p.at[0], p.at[1], r, 0, 2 * Math.PI);
+      g.fillStyle = p.hot ? 'rgb(255, 200, 40)' : p.knot ? 'rgb(30, 30, 30)' : 'rgb(250, 250, 250)';
+      g.fill(); g.strokeStyle = 'rgb(20, 20, 20)'; g.stroke();
+    }
+    g.strokeStyle = g.fillStyle = 'rgb(250, 230, 60)';
+    g.lineWidth = 2;
+    for (const loop of o.loops) {
+      g.beginPath();
+      loop.forEach((p, i) => p && (i ? g.lineTo(p[0], p[1]) : g.moveTo(p[0], p[1])));
+      g.closePath(); g.stroke();
+    }
+    for (const p of o.current) {
+      if (p) { g.beginPath(); g.arc(p[0], p[1], 3.5, 0, 2 * Math.PI); g.fill(); }
+    }
+    if (o.brush) {
+      g.strokeStyle = 'rgba(255, 255, 255, 0.9)';
+      g.beginPath(); g.arc(o.brush[0], o.brush[1], o.brush[2], 0, 2 * Math.PI); g.stroke();
+    }
+  }
+
+  // ---- the panel follows the state ------------------------------------------------
+
+  const fmt = (x, digits = 3) => Number(x).toFixed(digits);
+
+  function setRange(id, value, max) {
+    const el = $(id);
+    if (max !== undefined) { el.max = String(max); el.step = String(max / 1000); }
+    if (document.activeElement !== el || !el.matches(':active')) {
+      if (document.activeElement !== el) el.value = String(value);
+    }
+    const out = $(id + '-value');
+    if (out) out.textContent = fmt(value, el.step >= 1 ? 0 : 3);
+  }
+
+  function refresh(s) {
+    lastState = s;
+    const st = s.stats;
+    const d = s.diagonal;
+    setRange('radius', s.radius, 0.5 * d);
+    setRange('g-min', s.g_min, d);
+    setRange('g-max', s.g_max, d);
+    setRange('s-target', s.s_target);
+    setRange('strength', s.strength);
+    setRange('alpha0', s.alpha[0]);
+    setRange('alpha1', s.alpha[1]);
+    setRange('target-time', s.target_time);
+    for (const r of document.querySelectorAll('input[name=tool]')) r.checked = r.value === s.tool;
+    if (document.activeElement !== $('axis')) $('axis').value = String(s.axis);
+    if (document.activeElement !== $('inner-motion')) $('inner-motion').value = s.inner_motion;
+    $('force-cpu').checked = s.force_cpu;
+    $('time-value').textContent = fmt(st.time);
+    $('time-progress').value = st.time;
+    $('play').firstChild.textContent = s.moving ? 'Pause ' : 'Play ';
+    $('stat-vertices').textContent = st.vertices;
+    $('stat-triangles').textContent = st.triangles;
+    $('stat-backend').textContent = st.backend + (st.backend === 'gpu' ? ' (WebGL2)' : '');
+    $('stat-ms').textContent = fmt(st.ms_per_step);
+    $('stat-volume').textContent = fmt(st.volume_error_percent) + ' %';
+    $('stat-flipped').textContent = st.flipped_triangles;
+    $('stat-history').textContent = s.undo + ' / ' + s.redo;
+    const note = $('backend-note');
+    note.hidden = st.backend === 'gpu';
+    note.textContent = st.backend === 'gpu' ? '' : 'CPU path: ' + (s.backend_reason || 'GPU path not available');
+    $('tool-message').textContent = s.message + (s.tool === 'loops' ? ` (loops: ${s.loops[0]} closed, ${s.loops[1]} points)` : '');
+    if (s.load_error) showError(s.load_error);
+    if (s.status) $('status').textContent = s.status;
+    const warnings = $('warnings');
+    const text = s.warnings.join('\n');
+    if (warnings.dataset.text !== text) {
+      warnings.dataset.text = text;
+      warnings.replaceChildren(...s.warnings.map((w) => Object.assign(document.createElement('li'), { textContent: w })));
+    }
+  }
+
+  // ---- controls ------------------------------------------------------------------
+
+  for (const r of document.querySelectorAll('input[name=tool]'))
+    r.addEventListener('change', () => run({ cmd: 'set', tool: r.value }));
+
+  // Sliders: every move sets the value; a drag of g_min/g_max or α is one undo step.
+  function slider(id, make, gesture) {
+    const el = $(id);
+    el.addEventListener('input', () => run(Object.assign({ cmd: 'set', gesture: !!gesture }, make(Number(el.value)))));
+    if (gesture) el.addEventListener('change', () => run({ cmd: 'action', name: 'end-gesture' }));
+  }
+  slider('radius', (v) => ({ radius: v }));
+  slider('s-target', (v) => ({ s_target: v }));
+  slider('strength', (v) => ({ strength: v }));
+  slider('g-min', (v) => ({ g_min: v }), true);
+  slider('g-max', (v) => ({ g_max: v }), true);
+  slider('alpha0', (v) => ({ alpha: [v, Number($('alpha1').value)] }), true);
+  slider('alpha1', (v) => ({ alpha: [Number($('alpha0').value), v] }), true);
+  slider('target-time', (v) => ({ target_time: v }));
+  $('axis').addEventListener('change', () => run({ cmd: 'set', axis: Number($('axis').value) }));
+  $('inner-motion').addEventListener('change', () => run({ cmd: 'set', inner_motion: $('inner-motion').value }));
+  $('wireframe').addEventListener('change', () => run({ cmd: 'set', wireframe: $('wireframe').checked }));
+  $('force-cpu').addEventListener('change', () => run({ cmd: 'set', force_cpu: $('force-cpu').checked }));
+
+  const actions = {
+    'play': 'play-pause', 'reset': 'reset', 'apply': 'apply', 'undo': 'undo', 'redo': 'redo',
+    'add-segment': 'add-segment', 'remove-segment': 'remove-segment', 'close-loop': 'close-loop',
+    'clear-loops': 'clear-loops', 'view-frame': 'frame', 'view-front': 'view:front', 'view-right': 'view:right',
+    'view-top': 'view:top', 'view-iso': 'view:iso',
+  };
+  for (const [id, name] of Object.entries(actions)) $(id).addEventListener('click', () => run({ cmd: 'action', name }));
+
+  // ---- files ---------------------------------------------------------------------
+
+  function download(name, data, type) {
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(new Blob([data], { type: type || 'application/octet-stream' }));
+    a.download = name;
+    document.body.appendChild(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(a.href), 60000);
+  }
+
+  function exportMesh(format) {
+    const r = command({ cmd: 'export-mesh', format: format || 'ply' });
+    const bytes = Module.FS.readFile(r.path);
+    return { name: r.name, data: format === 'obj' || format === 'off' ? new TextDecoder().decode(bytes) : bytes };
+  }
+
+  function exportScene() {
+    return command({ cmd: 'export-scene' });
+  }
+
+  for (const format of ['obj', 'ply', 'glb']) {
+    $('export-' + format).addEventListener('click', () => {
+      try {
+        const m = exportMesh(format);
+        download(m.name, m.data);
+        $('status').textContent = 'exported ' + m.name;
+      } catch (e) { showError(e.message); }
+    });
+  }
+  $('export-scene').addEventListener('click', () => {
+    try {
+      const r = exportScene();
+      download('vfsd-scene.json', JSON.stringify(r.scene, null, 2) + '\n', 'application/json');
+      for (const path of r.files) download(path.split('/').pop(), Module.FS.readFile(path));
+      $('status').textContent = 'exported vfsd-scene.json';
+    } catch (e) { showError(e.message); }
+  });
+
+  const safeName = (name) => name.replace(/[^A-Za-z0-9._-]/g, '_');
+
+  function readFile(file) {
+    // Large files show their progress.
+    const bar = $('load-progress');
+    return new Promise((resolve, reject) => {
+      const reader = new FileReader();
+      bar.hidden = false;
+      bar.value = 0;
+      reader.onprogress = (e) => { if (e.lengthComputable) bar.value = e.loaded / e.total; };
+      reader.onerror = () => { bar.hidden = true; reject(reader.error); };
+      reader.onload = () => { bar.hidden = true; resolve(new Uint8Array(reader.result)); };
+      reader.readAsArrayBuffer(file);
+    });
+  }
+
+  // Writes the files into the engine's /files and opens the scene among them, else the first mesh.
+  async function openFiles(files) {
+    if (!files.length) return;
+    showError('');
+    let target = null;
+    for (const file of files) {
+      const path = '/files/' + safeName(file.name);
+      Module.FS.writeFile(path, await readFile(file));
+      if (!target || /\.json$/i.test(path)) target = path;
+    }
+    $('status').textContent = 'opening ' + target.split('/').pop() + '…';
+    await new Promise((r) => setTimeout(r, 0));  // let the page paint the message
+    const r = run({ cmd: 'open', path: target });
+    if (r && !r.load_error) {
+      showError('');
+      refresh(command({ cmd: 'state' }));
+    }
+  }
+
+  for (const id of ['open-mesh', 'open-scene']) {
+    $(id).addEventListener('change', () => {
+      openFiles([...$(id).files]).catch((e) => showError(e.message));
+      $(id).value = '';
+    });
+  }
+  const view = $('view');
+  view.addEventListener('dragover', (e) => { e.preventDefault(); $('drop-hint').hidden = false; });
+  view.addEventListener('dragleave', () => { $('drop-hint').hidden = true; });
+  view.addEventListener('drop', (e) => {
+    e.preventDefault();
+    $('drop-hint').hidden = true;
+    openFiles([...e.dataTransfer.files]).catch((err) => showError(err.message));
+  });
+
+  // ---- pointer -------------------------------------------------------------------
+
+  function canvasPoint(e) {
+    const rect = overlayCanvas.getBoundingClientRect();
+    const sx = overlayCanvas.width / rect.width, sy = overlayCanvas.height / rect.height;
+    return [(e.clientX - rect.left) * sx, (e.clientY - rect.top) * sy];
+  }
+  const pointer = (kind, e) => {
+    const [x, y] = canvasPoint(e);
+    Module.ccall('vfsd_pointer', null, ['number', 'number', 'number', 'number', 'number'],
+                 [kind, x, y, e.button === undefined ? 0 : e.button, e.shiftKey ? 1 : 0]);
+  };
+  overlayCanvas.addEventListener('pointerdown', (e) => {
+    if (!started) return;
+    overlayCanvas.focus();
+    overlayCanvas.setPointerCapture(e.pointerId);
+    pointer(0, e);
+    e.preventDefault();
+  });
+  overlayCanvas.addEventListener('pointermove', (e) => { if (started) pointer(1, e); });
+  overlayCanvas.addEventListener('pointerup', (e) => { if (started) pointer(2, e); });
+  overlayCanvas.addEventListener('pointercancel', (e) => { if (started) pointer(2, e); });
+  overlayCanvas.addEventListener('pointerleave', (e) => { if (started && !e.buttons) pointer(3, e); });
+  overlayCanvas.addEventListener('contextmenu', (e) => e.preventDefault());
+  overlayCanvas.addEventListener('wheel', (e) => {
+    if (!started) return;
+    e.preventDefault();
+    const [x, y] = canvasPoint(e);
+    const lines = e.deltaMode === 1 ? 33 : 1;
+    Module.ccall('vfsd_wheel', null, ['number', 'number', 'number'], [e.deltaY * lines, x, y]);
+  }, { passive: false });
+
+  // ---- keyboard: the desktop editor's shortcuts -----------------------------------
+
+  const toolKeys = { n: 'navigate', g: 'geodesic', i: 'paint inner', o: 'paint outer', e: 'erase', s: 'paint s',
+                     l: 'loops', h: 'handle' };
+  const viewKeys = { '1': 'view:front', '3': 'view:right', '7': 'view:top', '0': 'view:iso' };
+  const ctrlViewKeys = { '1': 'view:back', '3': 'view:left', '7': 'view:bottom' };
+  document.addEventListener('keydown', (e) => {
+    if (!started) return;
+    const t = e.target;
+    if (t.matches && t.matches('input[type=text], input[type=number], textarea, select')) return;
+    const onControl = t.matches && t.matches('button, input, select');
+    const key = e.key.toLowerCase();
+    const ctrl = e.ctrlKey || e.metaKey;
+    let handled = true;
+    if (ctrl && key === 'z') run({ cmd: 'action', name: e.shiftKey ? 'redo' : 'undo' });
+    else if (ctrl && key === 'y') run({ cmd: 'action', name: 'redo' });
+    else if (ctrl && ctrlViewKeys[key]) run({ cmd: 'action', name: ctrlViewKeys[key] });
+    else if (ctrl || e.altKey) handled = false;
+    else if (toolKeys[key]) run({ cmd: 'set', tool: toolKeys[key] });
+    else if (viewKeys[key]) run({ cmd: 'action', name: viewKeys[key] });
+    else if (key === 'f') run({ cmd: 'action', name: 'frame' });
+    else if (key === ' ' && !onControl) run({ cmd: 'action', name: 'play-pause' });
+    else if (key === 'enter' && !onControl) run({ cmd: 'action', name: 'close-loop' });
+    else if (key === 'r') run({ cmd: 'action', name: 'reset' });
+    else if (key === 'a') run({ cmd: 'action', name: 'apply' });
+    else if (key === 'w') { $('wireframe').checked = !$('wireframe').checked; run({ cmd: 'set', wireframe: $('wireframe').checked }); }
+    else if (key === '[' || key === ']') {
+      const s = lastState;
+      run({ cmd: 'set', radius: s.radius * (key === '[' ? 1 / 1.2 : 1.2) });
+    } else if (key === 'x' || key === 'y' || key === 'z') {
+      const axis = { x: 0, y: 1, z: 2 }[key];
+      run({ cmd: 'set', axis: lastState.axis === axis ? -1 : axis });
+    } else handled = false;
+    if (handled) e.preventDefault();
+  });
+
+  // ---- the automation API (docs/web.md) -------------------------------------------
+
+  // Resolves on the first frame whose state satisfies `done` (rejects after `frames`).
+  function waitFor(done, frames = 100000) {
+    return new Promise((resolve, reject) => {
+      let n = 0;
+      frameWaiters.push((s) => {
+        try {
+          if (done(s)) { resolve(s); return true; }
+        } catch (e) { reject(e); return true; }
+        if (++n > frames) { reject(new Error('vfsd: gave up waiting')); return true; }
+        return false;
+      });
+    });
+  }
+
+  const api = {
+    ready,
+    command,
+    loadScene: async (scene) => {
+      await ready;
+      const s = command({ cmd: 'load-scene', scene });
+      refresh(s);
+      await waitFor(() => true);  // drawn once
+      return api.stats();
+    },
+    open: async (path) => {
+      await ready;
+      const r = command({ cmd: 'open', path });
+      if (r.load_error) throw new Error(r.load_error);
+    },
+    runTo: async (t) => {
+      await ready;
+      command({ cmd: 'set', target_time: t });
+      const target = command({ cmd: 'state' }).target_time;
+      await waitFor((s) => {
+        if (s.target_time !== target) throw new Error('vfsd.runTo: the target time changed');
+        return s.stats.time === target && !s.moving;
+      });
+      return api.stats();
+    },
+    stats: () => command({ cmd: 'state' }).stats,
+    state: () => command({ cmd: 'state' }),
+    positions: () => array(0),
+    regionS: () => array(1),
+    positionsChecksum: () => command({ cmd: 'checksum' }).checksum,
+    exportMesh: (format) => exportMesh(format).data,
+    exportScene: () => exportScene().scene,
+    script: async (actions) => {
+      await ready;
+      command({ cmd: 'script', actions });
+      const s = await waitFor((st) => st.script && st.script.done);
+      if (s.script.error) throw new Error(s.script.error);
+    },
+    frames: (n) => waitFor(() => --n <= 0),
+  };
+  window.vfsd = api;
+})();
