@@ -77,6 +77,7 @@ nlohmann::json report_json(const PreparedScene& p, const D& d, const Deformation
             {"volume_before", q.volume_before},
             {"volume_after", q.volume_after},
             {"volume_error_percent", q.volume_error_percent},
+            {"volume_defined", q.volume_defined},  // false for an open or non-manifold surface
             {"outer_max_displacement", q.outer_max_displacement},
             {"inner_rigid_residual", q.inner_rigid_residual},
             {"inner_vertices", q.inner_vertices},
@@ -112,9 +113,11 @@ int deform_and_write(const Args& args, const PreparedScene& prepared, D& deforma
     nlohmann::json report = report_json(prepared, deformation, quality, total_ms);
     report.update(backend_fields);
     if (args.has("report")) write_file_atomically(args.get("report"), report.dump(2) + "\n");
-    std::printf("%s: %zu vertices, %d steps, %.3f ms/step, volume error %.4f%%, %zu flipped triangles\n",
-                args.get("out").c_str(), result.vertex_count(), static_cast<int>(deformation.step_milliseconds().size()),
-                report["ms_per_step"].get<double>(), quality.volume_error_percent, quality.flipped_triangles);
+    char volume[64] = "volume undefined (open or non-manifold surface)";
+    if (quality.volume_defined) std::snprintf(volume, sizeof volume, "volume error %.4f%%", quality.volume_error_percent);
+    std::printf("%s: %zu vertices, %d steps, %.3f ms/step, %s, %zu flipped triangles\n", args.get("out").c_str(),
+                result.vertex_count(), static_cast<int>(deformation.step_milliseconds().size()),
+                report["ms_per_step"].get<double>(), volume, quality.flipped_triangles);
     return kExitOk;
 }
 

@@ -54,6 +54,21 @@ bool is_finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) 
 
 }  // namespace
 
+bool is_closed_surface(const std::vector<Triangle>& triangles) {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+    edges.reserve(3 * triangles.size());
+    for (const Triangle& t : triangles)
+        for (int k = 0; k < 3; ++k) edges.emplace_back(std::minmax(t[k], t[(k + 1) % 3]));
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i;
+        while (j < edges.size() && edges[j] == edges[i]) ++j;
+        if (j - i != 2) return false;
+        i = j;
+    }
+    return !triangles.empty();
+}
+
 std::size_t count_flipped_triangles(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
                                     const std::vector<Triangle>& triangles) {
     const auto neighbours = edge_neighbours(triangles);
@@ -68,6 +83,7 @@ std::size_t count_flipped_triangles(const std::vector<Vec3>& before, const std::
 DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
                                    const std::vector<Triangle>& triangles, const std::vector<double>& s) {
     DeformationQuality q;
+    q.volume_defined = is_closed_surface(triangles);
     q.volume_before = signed_volume(before, triangles);
     q.volume_after = signed_volume(after, triangles);
     q.volume_error_percent = q.volume_before != 0.0

@@ -11,6 +11,11 @@
 namespace vfsd {
 
 struct DeformationQuality {
+    // The volume is that of a closed surface: false when some edge does not have
+    // exactly two triangles (an open boundary, a non-manifold edge). The volume
+    // numbers are then sums over the triangles (sec. 7.2's formula) with no meaning
+    // as an enclosed volume.
+    bool volume_defined = true;
     double volume_before = 0.0;
     double volume_after = 0.0;
     double volume_error_percent = 0.0;    // 100 |after − before| / |before|
@@ -25,6 +30,9 @@ struct DeformationQuality {
 // `s` is the region field at the start (0 inner, 1 outer).
 DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
                                    const std::vector<Triangle>& triangles, const std::vector<double>& s);
+
+// True when every edge of `triangles` belongs to exactly two triangles.
+bool is_closed_surface(const std::vector<Triangle>& triangles);
 
 // Triangles whose normal points against the mean normal of their edge neighbours
 // in `after` but not in `before`: local foldovers the deformation created.

@@ -5,6 +5,7 @@
 // Readers return the mesh as the file stores it (no welding); writers return the
 // file's bytes, which mesh_file.cpp writes atomically.
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -46,8 +47,9 @@ std::vector<std::string_view> split_tokens(std::string_view line);
 // Reads little- or big-endian values with bounds checks; errors are "FILE: what".
 class ByteCursor {
 public:
+    // `start` may lie past the end (a text header that ends without a newline): no bytes are left then.
     ByteCursor(const std::string& path, const std::string& bytes, std::size_t start = 0)
-        : path_(path), bytes_(bytes), pos_(start) {}
+        : path_(path), bytes_(bytes), pos_(std::min(start, bytes.size())) {}
     std::size_t position() const { return pos_; }
     std::size_t bytes_left() const { return bytes_.size() - pos_; }
     void skip(std::size_t n);
@@ -105,7 +107,9 @@ TriangleMesh read_obj(const std::string& path, const std::string& text);
 TriangleMesh read_off(const std::string& path, const std::string& text);
 TriangleMesh read_ply(const std::string& path, const std::string& bytes);
 TriangleMesh read_stl(const std::string& path, const std::string& bytes);
-TriangleMesh read_gltf(const std::string& path, const std::string& bytes, bool binary);
+// `external_files`: a .gltf may load buffers from files next to `path`; false when
+// reading from memory (only embedded data: URIs then).
+TriangleMesh read_gltf(const std::string& path, const std::string& bytes, bool binary, bool external_files = true);
 
 std::string write_obj(const TriangleMesh& mesh);
 std::string write_off(const TriangleMesh& mesh);

@@ -185,14 +185,27 @@ std::string one_line(std::string text) {
     return text;
 }
 
-tinygltf::Model load_model(const std::string& path, const std::string& bytes, bool binary) {
+// File callbacks for a file read from memory: there is no folder to load external buffers from.
+bool no_file_exists(const std::string&, void*) { return false; }
+std::string no_expand(const std::string& path, void*) { return path; }
+bool no_read(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
+    if (err) *err += "external file '" + path + "' cannot be loaded when reading from memory";
+    return false;
+}
+bool no_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "writing is not supported";
+    return false;
+}
+
+tinygltf::Model load_model(const std::string& path, const std::string& bytes, bool binary, bool external_files) {
     if (bytes.empty()) throw InputError(path + ": empty file");
     if (bytes.size() > 0xffffffffu) throw InputError(path + ": file too large for glTF");
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(ignore_image, nullptr);
+    if (!external_files) loader.SetFsCallbacks({no_file_exists, no_expand, no_read, no_write, nullptr});
     tinygltf::Model model;
     std::string err, warn;
-    const std::string dir = std::filesystem::path(path).parent_path().string();  // external buffers are relative to it
+    const std::string dir = external_files ? std::filesystem::path(path).parent_path().string() : std::string();  // external buffers are relative to it
     const auto size = static_cast<unsigned int>(bytes.size());
     const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()), size, dir)
                            : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, dir);
@@ -262,8 +275,8 @@ std::string write_glb(const TriangleMesh& mesh, const WriteOptions& options) {
     return out + chunks;
 }
 
-TriangleMesh read_gltf(const std::string& path, const std::string& bytes, bool binary) {
-    const tinygltf::Model model = load_model(path, bytes, binary);
+TriangleMesh read_gltf(const std::string& path, const std::string& bytes, bool binary, bool external_files) {
+    const tinygltf::Model model = load_model(path, bytes, binary, external_files);
     GltfReader reader{path, model, {}};
     const int scene = model.defaultScene;
     if (scene >= 0 && static_cast<std::size_t>(scene) < model.scenes.size()) {

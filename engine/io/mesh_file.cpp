@@ -130,19 +130,40 @@ MeshFile weld_mesh(TriangleMesh file_mesh, const std::string& format) {
     return out;
 }
 
+namespace {
+
+std::string lower(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return text;
+}
+
+bool known_format(const std::string& ext) {
+    return ext == "obj" || ext == "off" || ext == "ply" || ext == "stl" || ext == "gltf" || ext == "glb";
+}
+
+MeshFile read_known_format(const std::string& bytes, const std::string& ext, const std::string& name, bool external_files) {
+    if (bytes.empty()) throw InputError(name + ": empty file");
+    TriangleMesh mesh;
+    if (ext == "obj") mesh = io::read_obj(name, bytes);
+    else if (ext == "off") mesh = io::read_off(name, bytes);
+    else if (ext == "ply") mesh = io::read_ply(name, bytes);
+    else if (ext == "stl") mesh = io::read_stl(name, bytes);
+    else mesh = io::read_gltf(name, bytes, ext == "glb", external_files);
+    return weld_mesh(std::move(mesh), ext);
+}
+
+}  // namespace
+
 MeshFile read_mesh_file(const std::string& path) {
     const std::string ext = extension_of(path);
-    const bool known = ext == "obj" || ext == "off" || ext == "ply" || ext == "stl" || ext == "gltf" || ext == "glb";
-    if (!known) throw InputError(path + ": unknown mesh format '." + ext + "' (expected .obj .off .ply .stl .gltf .glb)");
-    const std::string bytes = io::read_file_bytes(path);
-    if (bytes.empty()) throw InputError(path + ": empty file");
-    TriangleMesh mesh;
-    if (ext == "obj") mesh = io::read_obj(path, bytes);
-    else if (ext == "off") mesh = io::read_off(path, bytes);
-    else if (ext == "ply") mesh = io::read_ply(path, bytes);
-    else if (ext == "stl") mesh = io::read_stl(path, bytes);
-    else mesh = io::read_gltf(path, bytes, ext == "glb");
-    return weld_mesh(std::move(mesh), ext);
+    if (!known_format(ext)) throw InputError(path + ": unknown mesh format '." + ext + "' (expected .obj .off .ply .stl .gltf .glb)");
+    return read_known_format(io::read_file_bytes(path), ext, path, true);
+}
+
+MeshFile read_mesh_bytes(const std::string& bytes, const std::string& format, const std::string& name) {
+    const std::string ext = lower(format);
+    if (!known_format(ext)) throw InputError(name + ": unknown mesh format '" + format + "' (expected obj off ply stl gltf glb)");
+    return read_known_format(bytes, ext, name, false);
 }
 
 MeshFile load_mesh_file(const std::string& spec) {

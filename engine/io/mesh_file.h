@@ -56,6 +56,12 @@ struct WriteOptions {
 // Reads a mesh file, choosing the format by the (case-insensitive) extension.
 MeshFile read_mesh_file(const std::string& path);
 
+// Reads a mesh from `bytes` in memory. `format` is an extension without the dot
+// ("obj", "off", "ply", "stl", "gltf", "glb", any case); `name` stands for the file
+// in messages. A .gltf read from memory cannot load external buffer files (its
+// buffers must be embedded data: URIs); otherwise the same as read_mesh_file.
+MeshFile read_mesh_bytes(const std::string& bytes, const std::string& format, const std::string& name = "<memory>");
+
 // `spec` is a file path or builtin:NAME[:RESOLUTION] (see mesh/builtin_meshes.h).
 MeshFile load_mesh_file(const std::string& spec);
 TriangleMesh load_mesh(const std::string& spec);

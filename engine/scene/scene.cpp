@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "base/error.h"
 
@@ -163,16 +164,28 @@ Scene parse_scene(const json& j, const std::string& base_dir, const std::string&
     return scene;
 }
 
-Scene load_scene(const std::string& path) {
-    std::ifstream file(path);
-    if (!file) throw IoError(path + ": cannot open the scene file");
-    json j;
+nlohmann::json parse_scene_json(const std::string& text, const std::string& name) {
+    // The callback sees every array and object as it opens, before its contents are read.
+    const json::parser_callback_t limit_depth = [&name](int depth, json::parse_event_t event, json&) {
+        if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
+            depth >= kMaxSceneJsonDepth)
+            throw InputError(name + ": JSON nests deeper than " + std::to_string(kMaxSceneJsonDepth) + " levels");
+        return true;
+    };
     try {
-        j = json::parse(file);
-    } catch (const json::parse_error& e) {
-        throw InputError(path + ": not valid JSON (" + std::string(e.what()) + ")");
+        return json::parse(text, limit_depth);
+    } catch (const json::exception& e) {
+        throw InputError(name + ": not valid JSON (" + std::string(e.what()) + ")");
     }
-    return parse_scene(j, std::filesystem::path(path).parent_path().string(), path);
+}
+
+Scene load_scene(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw IoError(path + ": cannot open the scene file");
+    std::ostringstream text;
+    text << file.rdbuf();
+    if (file.bad()) throw IoError(path + ": cannot read the scene file");
+    return parse_scene(parse_scene_json(text.str(), path), std::filesystem::path(path).parent_path().string(), path);
 }
 
 InnerMotion scene_motion(const Scene& scene) {

@@ -61,6 +61,12 @@ struct Scene {
 // Throws InputError naming the offending field ("scene.json: region.g_max: ...").
 Scene parse_scene(const nlohmann::json& json, const std::string& base_dir, const std::string& name = "scene");
 Scene load_scene(const std::string& path);
+// The JSON document of a scene file's text: throws InputError "NAME: not valid JSON
+// (...)" on a syntax error, and when arrays and objects nest deeper than
+// kMaxSceneJsonDepth (a scene needs 5 levels; the limit keeps hostile files from
+// exhausting memory or the stack).
+constexpr int kMaxSceneJsonDepth = 64;
+nlohmann::json parse_scene_json(const std::string& text, const std::string& name = "scene");
 // The scene as JSON, with the mesh path as stored (parse_scene(to_json(s)) == s).
 nlohmann::json scene_to_json(const Scene& scene);
 
