@@ -84,6 +84,12 @@ std::optional<editor::Tool> core_tool(const std::string& name) {
     return std::nullopt;
 }
 
+json points_json(const std::vector<Vec3>& points) {
+    json out = json::array();
+    for (const Vec3& p : points) out.push_back({p.x, p.y, p.z});
+    return out;
+}
+
 std::string read_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::ostringstream text;
@@ -381,6 +387,7 @@ json App::state() const {
             {"inner_motion", c.inner_motion == InnerMotionMode::Translation ? "translation" : "rotation"},
             {"alpha", {c.twist_degrees[0], c.twist_degrees[1]}},
             {"is_handle", c.curve.is_handle},
+            {"control_points", points_json(s.control_points())},
             {"undo", s.history().undo_count()},
             {"redo", s.history().redo_count()},
             {"mesh", s.mesh_name()},
@@ -471,6 +478,15 @@ json App::command(const json& c) {
         json out = {{"scene", json::parse(read_file(path))}, {"path", path}, {"files", json::array()}};
         const std::string mesh = out["scene"].value("mesh", std::string());
         if (mesh == "vfsd-scene.mesh.ply") out["files"].push_back(std::string(kFiles) + "/" + mesh);
+        return out;
+    }
+    if (cmd == "project") {
+        // Canvas pixels of points (tests aim the pointer with them), and the eye.
+        json out = {{"pixels", json::array()}, {"eye", points_json({camera_.eye()})[0]}};
+        for (const json& p : c.at("points")) {
+            const glm::dvec3 q = camera_.project(Vec3(p[0].get<double>(), p[1].get<double>(), p[2].get<double>()), viewport());
+            out["pixels"].push_back({q.x, q.y});
+        }
         return out;
     }
     if (cmd == "checksum") {

@@ -97,7 +97,7 @@
       refresh(command({ cmd: 'state' }));
       readyResolve(api);
     }
-    if (frameCount % 6 === 0 || frameWaiters.length) refresh(command({ cmd: 'state' }));
+    refresh(command({ cmd: 'state' }));
     for (let i = frameWaiters.length - 1; i >= 0; i--) {
       if (frameWaiters[i](lastState)) frameWaiters.splice(i, 1);
     }
@@ -425,6 +425,13 @@
     positions: () => array(0),
     regionS: () => array(1),
     positionsChecksum: () => command({ cmd: 'checksum' }).checksum,
+    // Page (CSS) coordinates of points in mesh space, for aiming the pointer.
+    project: (points) => {
+      const r = command({ cmd: 'project', points });
+      const rect = overlayCanvas.getBoundingClientRect();
+      const sx = rect.width / overlayCanvas.width, sy = rect.height / overlayCanvas.height;
+      return { eye: r.eye, pixels: r.pixels.map(([x, y]) => [rect.left + x * sx, rect.top + y * sy]) };
+    },
     exportMesh: (format) => exportMesh(format).data,
     exportScene: () => exportScene().scene,
     script: async (actions) => {

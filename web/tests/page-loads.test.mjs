@@ -1,0 +1,34 @@
+// The page loads on 127.0.0.1 with no console errors, the GPU path runs in
+// WebGL2 (SwiftShader here), and the default scene is visible: the canvas is not
+// blank and shows both region colours (s = 0 blue, s = 1 red).
+import path from 'node:path';
+import { openPage, outDir, check } from './harness.mjs';
+import { canvasColours } from './pixels.mjs';
+
+const out = outDir();
+const { page, errors, close } = await openPage();
+try {
+  const stats = await page.evaluate(() => window.vfsd.stats());
+  check(stats.vertices > 0 && stats.triangles > 0, `default scene loaded (${stats.vertices} vertices)`);
+  const renderer = await page.evaluate(() => {
+    const gl = document.createElement('canvas').getContext('webgl2');
+    const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
+    return info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : '';
+  });
+  console.log('  WebGL2 renderer: ' + renderer);
+  await page.evaluate(() => window.vfsd.runTo(0.01));
+  const after = await page.evaluate(() => window.vfsd.stats());
+  check(after.backend === 'gpu', `GPU path active (backend ${after.backend})`);
+  check(await page.locator('#backend-note').isHidden(), 'no CPU fallback note');
+  await page.evaluate(() => window.vfsd.runTo(0));
+
+  const shot = path.join(out, 'web-default.png');
+  await page.screenshot({ path: shot });
+  const colours = await canvasColours(page);
+  console.log(`  canvas: ${JSON.stringify(colours)}`);
+  check(colours.distinct > 50, 'the canvas is not blank');
+  check(colours.blue > 500 && colours.red > 500, 'both region colours present (blue inner, red outer)');
+  check(errors.length === 0, 'no console errors' + (errors.length ? ': ' + errors.join(' | ') : ''));
+} finally {
+  await close();
+}
