@@ -1,4 +1,4 @@
-// vfsd bench [--quick] [--markdown FILE] [--data FILE] [--steps N] [--repeat N]
+// vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N]
 //
 // Reproduces the paper's timing table (sec. 7.1) with our models: per mesh,
 // a bending deformation of 250 RK4 steps with 10 smoothing steps, timed per
@@ -48,9 +48,10 @@ std::vector<Model> models(bool quick) {
                                {"cylinder (fig. 14)", "builtin:cylinder", 21302, 20}};
     const std::string cgal = std::string(VFSD_SOURCE_DIR) + "/assets/cgal/";
     for (const auto& [name, file] : {std::pair{"camel (~ squirrel)", "camel.off"}, {"armadillo (~ horse)", "armadillo.off"},
-                                     {"bunny (~ hand)", "bunny00.off"}})
+                                     {"bunny", "bunny00.off"}})
         if (std::filesystem::exists(cgal + file)) list.push_back({name, cgal + file, 0, 0});
     list.push_back({"sphere 40k", "builtin:sphere:6", 0, 0});
+    list.push_back({"cylinder 53k (~ hand)", "builtin:cylinder:163", 53054, 55});
     list.push_back({"cylinder 200k", "builtin:cylinder:316", 0, 0});
     list.push_back({"cylinder 1M", "builtin:cylinder:707", 0, 0});
     list.push_back({"cylinder 2M", "builtin:cylinder:1000", 0, 0});
@@ -89,13 +90,6 @@ double spread(std::vector<double> v) {
     if (v.size() < 3) return 0.0;
     const double m = v[v.size() / 2];
     return m > 0 ? 0.5 * (v[v.size() * 9 / 10] - v[v.size() / 10]) / m : 0.0;
-}
-
-std::size_t state_bytes(const TriangleMesh& mesh, const VertexRings& rings) {
-    const std::size_t n = mesh.vertex_count();
-    // positions, next positions, normals, gradients, smoothing scratch (5 × Vec3), s, blend list, rings.
-    return n * (5 * sizeof(Vec3) + sizeof(double) + sizeof(std::uint32_t)) + rings.offsets.size() * 4 +
-           rings.neighbours.size() * 4 + rings.wedge.size();
 }
 
 void time_cpu(const TriangleMesh& mesh, const VertexRings& rings, const Region& region, const InnerMotion& motion,
@@ -141,7 +135,7 @@ Result run_model(const Model& model, int steps, int repeat, bool with_gpu) {
     options.steps = steps;
     r.vertices = mesh.vertex_count();
     r.blend_vertices = blend_vertices(region.s).size();
-    r.bytes_per_vertex = double(state_bytes(mesh, rings)) / double(r.vertices);
+    r.bytes_per_vertex = double(Deformation(mesh.positions, rings, region, motion, options).state_bytes()) / double(r.vertices);
     const auto start = std::chrono::steady_clock::now();
     std::vector<Vec3> final_positions;
     time_cpu(mesh, rings, region, motion, options, repeat, 0, r.cpu_ms, r.cpu_spread, &final_positions);
@@ -192,7 +186,7 @@ std::string data_lines(const std::vector<Result>& results) {
 }  // namespace
 
 int run_bench(const Args& args) {
-    args.expect({"quick", "markdown", "data", "steps", "repeat", "no-gpu"}, 0, 0);
+    args.expect({"quick", "only", "markdown", "data", "steps", "repeat", "no-gpu"}, 0, 0);
     const bool quick = args.has("quick");
     const int steps = static_cast<int>(args.get_number("steps", quick ? 10 : 250));
     const int repeat = static_cast<int>(args.get_number("repeat", quick ? 1 : 3));
@@ -213,7 +207,9 @@ int run_bench(const Args& args) {
     if (context) std::printf("GPU backend: %s (%s)\n", context->renderer().c_str(), context->kind().c_str());
 #endif
     std::vector<Result> results;
+    const std::string only = args.has("only") ? args.get("only") : "";
     for (const Model& m : models(quick)) {
+        if (m.name.find(only) == std::string::npos) continue;
         results.push_back(run_model(m, steps, repeat, with_gpu));
         const Result& r = results.back();
         std::printf("%-22s %9zu vertices  %8.3f ms/step (1 thread)  %8.3f ms/step (%u threads)  gpu %8.3f  vol %.3f%%  flips %zu  %.0f B/vertex\n",

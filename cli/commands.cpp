@@ -39,13 +39,14 @@ const std::vector<Command>& commands() {
          "(default) or the CPU. --size defaults to 800x600. Needs OSMesa.\n",
          run_render},
         {"bench", "time the deformation per step on the paper's models and larger meshes",
-         "usage: vfsd bench [--quick] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--no-gpu]\n"
+         "usage: vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--no-gpu]\n"
          "\n"
          "Per mesh: a 45-degree bend of 250 RK4 steps (10 smoothing steps each), ms per step\n"
          "(median and spread over --repeat runs) on one thread and on all, the GPU backend\n"
          "when a headless context can be made, volume error, flipped triangles and the\n"
          "deformation state's bytes per vertex. --quick runs two small meshes for a few\n"
-         "steps (CI). scripts/bench runs the full set and writes docs/benchmarks.md.\n",
+         "steps (CI). --only runs the models whose name contains TEXT. scripts/bench runs\n"
+         "the full set and writes docs/benchmarks.md.\n",
          run_bench},
     };
     return list;

@@ -25,11 +25,11 @@ float bernstein_blend_derivative(float u) {
 // the origin of y, its plane e = 0 at `plane` along the axis:
 // ½ |y⊥|² Ω − (Ω·y − |Ω| ζ0) y⊥.
 vec3 rotation_stream(vec3 omega, vec3 y, float plane) {
-    float len = length(omega);
-    if (len == 0.0) return vec3(0.0);
-    vec3 axis = omega / len;
-    vec3 y_perp = y - dot(axis, y) * axis;
-    return 0.5 * dot(y_perp, y_perp) * omega - (dot(omega, y) - len * plane) * y_perp;
+    float omega2 = dot(omega, omega);
+    if (omega2 == 0.0) return vec3(0.0);
+    float along = dot(omega, y);
+    vec3 y_perp = y - (along / omega2) * omega;
+    return 0.5 * dot(y_perp, y_perp) * omega - (along - sqrt(omega2) * plane) * y_perp;
 }
 
 // Rigid velocity of the inner region: ∇e × ∇f (+ ∇ẽ × ∇f̃).

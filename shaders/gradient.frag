@@ -1,35 +1,49 @@
 // Gradient pass, eq. (6): the gradient g of the linear function r(y) = s(x) + g·(y − x)
-// with g·n = 0 that fits s best on the 1-ring, as estimate_gradients in
-// engine/deform/passes.cpp. The normal equations are divided by their trace so
-// that the singularity test does not depend on the mesh's scale in float.
+// with g·n = 0 that fits s best on the 1-ring, as ring_gradient in
+// engine/deform/passes.cpp: 2×2 normal equations in tangent coordinates. The
+// singularity test divides by the trace, so it does not depend on the mesh's scale.
 // Outside the blend region (s = 0 or 1) b′(s) = 0, ∇r is never used and is 0.
 uniform sampler2D u_positions;  // xyz = position, w = s
 uniform sampler2D u_normals;
 out vec4 o_gradient;
 
+// Unit tangents t1, t2 with (t1, t2, n) orthonormal (Duff et al. 2017).
+void tangent_basis(vec3 n, out vec3 t1, out vec3 t2) {
+    float sign = n.z >= 0.0 ? 1.0 : -1.0;
+    float a = -1.0 / (sign + n.z);
+    float b = n.x * n.y * a;
+    t1 = vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    t2 = vec3(b, sign + n.y * n.y * a, -n.y);
+}
+
 void main() {
     int v = fragment_vertex();
     if (v < 0) { o_gradient = vec4(0.0); return; }
     vec4 xs = fetch(u_positions, v);
-    if (!in_blend_region(xs.w)) { o_gradient = vec4(0.0); return; }
     vec3 n = fetch(u_normals, v).xyz;
+    if (!in_blend_region(xs.w) || n == vec3(0.0)) { o_gradient = vec4(0.0); return; }
+    vec3 t1, t2;
+    tangent_basis(n, t1, t2);
     ivec2 ring = ring_of(v);
-    mat3 normal_matrix = mat3(0.0);
-    vec3 rhs = vec3(0.0);
+    vec3 a = vec3(0.0);  // Σ p1², Σ p1 p2, Σ p2²
+    vec2 rhs = vec2(0.0);
     for (int k = 0; k < ring.y; ++k) {
         vec4 ys = fetch(u_positions, entry_vertex(ring_entry(ring.x + k)));
         vec3 d = ys.xyz - xs.xyz;
-        vec3 p = d - dot(d, n) * n;  // (y − x) in the tangent plane
-        normal_matrix += outerProduct(p, p);
+        vec2 p = vec2(dot(d, t1), dot(d, t2));  // (y − x) in tangent coordinates
+        a += vec3(p.x * p.x, p.x * p.y, p.y * p.y);
         rhs += (ys.w - xs.w) * p;
     }
-    float scale = normal_matrix[0][0] + normal_matrix[1][1] + normal_matrix[2][2];
+    float scale = a.x + a.z;
     vec3 g = vec3(0.0);
     if (scale > 0.0) {
-        // Σ p pᵀ is singular along n; adding n nᵀ keeps g·n = 0.
-        mat3 m = normal_matrix / scale + outerProduct(n, n);
+        vec3 m = a / scale;
+        float det = m.x * m.z - m.y * m.y;
         // A ring that spans no plane gives no gradient.
-        if (determinant(m) > 1e-6) g = inverse(m) * (rhs / scale);
+        if (det > 1e-6) {
+            vec2 r = rhs / scale;
+            g = ((m.z * r.x - m.y * r.y) * t1 + (m.x * r.y - m.y * r.x) * t2) / det;
+        }
     }
     o_gradient = vec4(g, 0.0);
 }

@@ -10,6 +10,7 @@
 #include "curve/handle.h"
 #include "deform/deformation.h"
 #include "deform/quality.h"
+#include "field/vector_field.h"
 #include "mesh/builtin_meshes.h"
 #include "mesh/geometry.h"
 
@@ -182,4 +183,55 @@ TEST_CASE("the rigid fit recovers a known motion", "[deform][math]") {
     const RigidFit fit = fit_rigid(a, b);
     CHECK(fit.rms_residual < 1e-12);
     CHECK(std::abs(rotation_angle(fit.rotation) - 2.5) < 1e-12);
+}
+
+TEST_CASE("the inner region's affine RK4 step equals RK4 of each inner vertex", "[deform]") {
+    // deformation_step maps inner vertices (s = 0) by one affine map found from
+    // four points; classical RK4 of the rigid field per vertex must agree.
+    const BoxScene scene;
+    const std::vector<double> all_inner(scene.mesh.vertex_count(), 0.0);
+    const RegionParts parts = RegionParts::of(all_inner, build_vertex_rings(scene.mesh));
+    REQUIRE(parts.inner.size() == scene.mesh.vertex_count());
+    REQUIRE(parts.blend.empty());
+    const InnerMotion motion = InnerMotion::along_curve(bend_curve(), InnerMotionMode::Rotation, 0.0, 2.0);
+    const StepMotion m = StepMotion::sample(motion, 0.37, 0.05);  // a long step: RK4's error terms matter
+    const std::vector<Vec3> gradients(scene.mesh.vertex_count(), Vec3(0.0));
+    std::vector<Vec3> stepped(scene.mesh.vertex_count(), Vec3(0.0));
+    deformation_step(m, all_inner, parts, gradients, scene.mesh.positions, stepped);
+    double worst = 0.0, moved = 0.0;
+    for (std::size_t v = 0; v < stepped.size(); ++v) {
+        const Vec3 x = scene.mesh.positions[v];
+        const Vec3 k1 = inner_velocity(m.start, x);
+        const Vec3 k2 = inner_velocity(m.middle, x + 0.5 * m.h * k1);
+        const Vec3 k3 = inner_velocity(m.middle, x + 0.5 * m.h * k2);
+        const Vec3 k4 = inner_velocity(m.end, x + m.h * k3);
+        const Vec3 expected = x + (m.h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        worst = std::max(worst, glm::length(stepped[v] - expected));
+        moved = std::max(moved, glm::length(expected - x));
+    }
+    CHECK(moved > 1e-3);
+    CHECK(worst < 1e-13);
+}
+
+TEST_CASE("region parts list each blend vertex's blend neighbours", "[deform]") {
+    const BoxScene scene;
+    const VertexRings rings = build_vertex_rings(scene.mesh);
+    const RegionParts parts = RegionParts::of(scene.s, rings);
+    REQUIRE(parts.blend_ring_offsets.size() == parts.blend.size() + 1);
+    std::size_t inner = 0;
+    for (const double s : scene.s) inner += s <= 0.0;
+    CHECK(parts.inner.size() == inner);
+    for (std::size_t i = 0; i < parts.blend.size(); ++i) {
+        const std::uint32_t v = parts.blend[i];
+        CHECK((scene.s[v] > 0.0 && scene.s[v] < 1.0));
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+            const double s = scene.s[rings.neighbours[k]];
+            if (s > 0.0 && s < 1.0) expected.push_back(rings.neighbours[k]);
+        }
+        std::vector<std::uint32_t> listed;
+        for (std::uint32_t k = parts.blend_ring_offsets[i]; k < parts.blend_ring_offsets[i + 1]; ++k)
+            listed.push_back(parts.blend[parts.blend_rings[k]]);
+        CHECK(listed == expected);
+    }
 }

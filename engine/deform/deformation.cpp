@@ -24,11 +24,11 @@ Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region 
                              std::to_string(positions_.size()) + " vertices");
         if (rings_.vertex_count() != positions_.size()) throw InputError("rings do not match the mesh");
     }
-    if (!region_.sphere_tool) blend_ = blend_vertices(region_.s);
-    normals_.resize(positions_.size());
-    gradients_.resize(positions_.size());
-    scratch_.resize(positions_.size());
-    next_.resize(positions_.size());
+    if (!region_.sphere_tool) parts_ = RegionParts::of(region_.s, rings_);
+    normals_.assign(positions_.size(), Vec3(0.0));
+    gradients_.assign(positions_.size(), Vec3(0.0));
+    next_ = positions_;
+    midpoints_ = positions_;
 }
 
 double next_time_on_grid(double time, double target, int steps) {
@@ -53,41 +53,62 @@ int Deformation::advance(double target, int max_steps) {
 void Deformation::step(double h) {
     const auto start = std::chrono::steady_clock::now();
     const StepMotion motion = StepMotion::sample(motion_, time_, h);
-    next_ = positions_;
     if (region_.sphere_tool) {
-        deformation_step(motion, *region_.sphere_tool, next_);
-    } else if (options_.gradients_at_midpoint) {
-        if (!have_gradients_) estimate_surface_gradients(positions_);
-        predict_midpoints(motion.start, h, region_.s, gradients_, positions_, next_);
-        estimate_surface_gradients(next_);
         next_ = positions_;
-        deformation_step(motion, region_.s, gradients_, next_);
+        deformation_step(motion, *region_.sphere_tool, next_);
+        check_finite(next_);
     } else {
-        estimate_surface_gradients(positions_);
-        deformation_step(motion, region_.s, gradients_, next_);
+        if (!options_.gradients_at_midpoint) {
+            estimate_surface_gradients(positions_);
+        } else {
+            if (!have_gradients_) estimate_surface_gradients(positions_);
+            predict_midpoints(motion.start, h, region_.s, parts_, gradients_, positions_, midpoints_);
+            estimate_surface_gradients(midpoints_);
+        }
+        deformation_step(motion, region_.s, parts_, gradients_, positions_, next_);
+        check_finite(next_);
     }
-    check_finite(next_);
     positions_.swap(next_);
     step_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }
 
 // Normal, gradient (eq. 6) and smoothing passes on the positions `at`.
 void Deformation::estimate_surface_gradients(const std::vector<Vec3>& at) {
-    estimate_normals(at, rings_, blend_, normals_);
-    estimate_gradients(at, normals_, region_.s, rings_, blend_, gradients_);
-    smooth_gradients(normals_, region_.s, rings_, blend_, options_.smoothing_steps, options_.smoothing_weight,
-                     gradients_, scratch_);
+    estimate_normals(at, rings_, parts_.blend, normals_);
+    estimate_gradients(at, normals_, region_.s, rings_, parts_.blend, gradients_);
+    smooth_gradients(normals_, parts_, options_.smoothing_steps, options_.smoothing_weight, gradients_, smoothing_);
     have_gradients_ = true;
 }
 
+namespace {
+template <class T>
+std::size_t bytes(const std::vector<T>& v) {
+    return v.capacity() * sizeof(T);
+}
+}  // namespace
+
+std::size_t Deformation::state_bytes() const {
+    return bytes(positions_) + bytes(next_) + bytes(midpoints_) + bytes(normals_) + bytes(gradients_) +
+           bytes(smoothing_.gradients) + bytes(smoothing_.next) + bytes(smoothing_.normals) + bytes(region_.s) + bytes(rings_.offsets) + bytes(rings_.neighbours) +
+           bytes(rings_.wedge) + bytes(parts_.blend) + bytes(parts_.inner) + bytes(parts_.blend_ring_offsets) +
+           bytes(parts_.blend_rings);
+}
+
+// Throws NumericalError at the first non-finite position among those the step moved.
 void Deformation::check_finite(const std::vector<Vec3>& candidate) const {
-    for (std::size_t v = 0; v < candidate.size(); ++v) {
+    const auto check = [&](std::size_t v) {
         const Vec3& p = candidate[v];
-        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) continue;
+        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) return;
         throw NumericalError("integration step " + std::to_string(step_ms_.size() + 1) + " (t = " +
                              std::to_string(time_) + ") made vertex " + std::to_string(v) +
                              " non-finite; the mesh before that step is kept");
+    };
+    if (region_.sphere_tool) {
+        for (std::size_t v = 0; v < candidate.size(); ++v) check(v);
+        return;
     }
+    for (const std::uint32_t v : parts_.inner) check(v);
+    for (const std::uint32_t v : parts_.blend) check(v);
 }
 
 }  // namespace vfsd

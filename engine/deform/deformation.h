@@ -50,6 +50,8 @@ public:
     const Region& region() const { return region_; }
     const InnerMotion& motion() const { return motion_; }
     const DeformationOptions& options() const { return options_; }
+    // Bytes held by the deformation state: positions, work arrays, s, rings, region parts.
+    std::size_t state_bytes() const;
     // Wall time of every step taken so far, in milliseconds.
     const std::vector<double>& step_milliseconds() const { return step_ms_; }
 
@@ -64,9 +66,11 @@ private:
     InnerMotion motion_;
     DeformationOptions options_;
     double time_ = 0.0;
-    // Per-step work arrays, sized once.
-    std::vector<std::uint32_t> blend_;  // vertices with 0 < s < 1
-    std::vector<Vec3> normals_, gradients_, scratch_, next_;
+    // Per-step work arrays, sized once. The outer region never moves, so
+    // positions_, next_ and midpoints_ hold the same outer positions throughout.
+    RegionParts parts_;
+    std::vector<Vec3> normals_, gradients_, next_, midpoints_;
+    SmoothingScratch smoothing_;
     bool have_gradients_ = false;  // gradients_ hold the last step's ∇r
     std::vector<double> step_ms_;
 };

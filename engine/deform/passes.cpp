@@ -1,5 +1,8 @@
 #include "deform/passes.h"
 
+#include <cmath>
+
+#include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
 #include "base/parallel.h"
@@ -20,6 +23,65 @@ Vec3 rk4(const StepMotion& m, const Vec3& x, const Velocity& velocity) {
     return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
 }
 
+// One RK4 step of the inner region, x ↦ x0′ + M (x − x0). With b = 0 and ∇b = 0
+// the field is the rigid velocity ċ + (ω + τ) × (x − c), affine in x, and RK4 of an
+// affine field is an affine map of the start point: four points fix it, and every
+// inner vertex then costs one matrix product instead of four field evaluations.
+struct AffineStep {
+    Vec3 x0, image;     // a point and where the step takes it
+    glm::dmat3 linear;  // M
+    Vec3 operator()(const Vec3& x) const { return image + linear * (x - x0); }
+};
+
+AffineStep rigid_rk4_step(const StepMotion& m) {
+    const auto rigid = [](const Vec3& x, const MotionSample& sample) { return inner_velocity(sample, x); };
+    AffineStep step{m.start.position, rk4(m, m.start.position, rigid), glm::dmat3(1.0)};
+    for (int axis = 0; axis < 3; ++axis) step.linear[axis] = rk4(m, step.x0 + step.linear[axis], rigid) - step.image;
+    return step;
+}
+
+// Calls body(v) for every listed vertex, on all threads.
+template <class Body>
+void for_each_vertex(const std::vector<std::uint32_t>& vertices, const Body& body) {
+    parallel_for(vertices.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) body(vertices[i]);
+    });
+}
+
+bool in_blend(double s) { return s > 0.0 && s < 1.0; }
+
+// Two unit tangents t1, t2 with (t1, t2, n) orthonormal, for a unit n
+// (Duff et al., "Building an orthonormal basis, revisited", 2017).
+void tangent_basis(const Vec3& n, Vec3& t1, Vec3& t2) {
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z), b = n.x * n.y * a;
+    t1 = Vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    t2 = Vec3(b, sign + n.y * n.y * a, -n.y);
+}
+
+// Eq. (6) at vertex v with normal n: in tangent coordinates p = ((y − x)·t1,
+// (y − x)·t2), the least-squares fit of s(y) − s(x) ≈ g·p over the 1-ring solves
+// the 2×2 normal equations Σ p pᵀ g = Σ p (s(y) − s(x)); g·n = 0 by construction.
+// A ring that spans no plane (or a vertex without a normal) gives no gradient.
+Vec3 ring_gradient(const std::vector<Vec3>& positions, const Vec3& n, const std::vector<double>& s,
+                   const VertexRings& rings, std::uint32_t v) {
+    if (n == Vec3(0.0)) return Vec3(0.0);
+    Vec3 t1, t2;
+    tangent_basis(n, t1, t2);
+    const Vec3 x = positions[v];
+    double a11 = 0.0, a12 = 0.0, a22 = 0.0, r1 = 0.0, r2 = 0.0;
+    for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+        const std::uint32_t y = rings.neighbours[k];
+        const Vec3 d = positions[y] - x;
+        const double p1 = glm::dot(d, t1), p2 = glm::dot(d, t2), ds = s[y] - s[v];
+        a11 += p1 * p1, a12 += p1 * p2, a22 += p2 * p2;
+        r1 += p1 * ds, r2 += p2 * ds;
+    }
+    const double scale = a11 + a22, det = a11 * a22 - a12 * a12;
+    if (!(det > 1e-12 * scale * scale)) return Vec3(0.0);
+    return ((a22 * r1 - a12 * r2) * t1 + (a11 * r2 - a12 * r1) * t2) / det;
+}
+
 }  // namespace
 
 void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals) {
@@ -34,77 +96,82 @@ void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rin
 std::vector<std::uint32_t> blend_vertices(const std::vector<double>& s) {
     std::vector<std::uint32_t> blend;
     for (std::size_t v = 0; v < s.size(); ++v)
-        if (s[v] > 0.0 && s[v] < 1.0) blend.push_back(static_cast<std::uint32_t>(v));
+        if (in_blend(s[v])) blend.push_back(static_cast<std::uint32_t>(v));
     return blend;
+}
+
+RegionParts RegionParts::of(const std::vector<double>& s, const VertexRings& rings) {
+    RegionParts parts;
+    parts.blend = blend_vertices(s);
+    for (std::size_t v = 0; v < s.size(); ++v)
+        if (s[v] <= 0.0) parts.inner.push_back(static_cast<std::uint32_t>(v));
+    std::vector<std::uint32_t> position_in_blend(s.size(), 0);
+    for (std::size_t i = 0; i < parts.blend.size(); ++i) position_in_blend[parts.blend[i]] = static_cast<std::uint32_t>(i);
+    parts.blend_ring_offsets.reserve(parts.blend.size() + 1);
+    parts.blend_ring_offsets.push_back(0);
+    for (const std::uint32_t v : parts.blend) {
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
+            if (in_blend(s[rings.neighbours[k]])) parts.blend_rings.push_back(position_in_blend[rings.neighbours[k]]);
+        parts.blend_ring_offsets.push_back(static_cast<std::uint32_t>(parts.blend_rings.size()));
+    }
+    return parts;
 }
 
 void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                         const std::vector<double>& s, const VertexRings& rings,
                         const std::vector<std::uint32_t>& blend, std::vector<Vec3>& gradients) {
-    gradients.assign(positions.size(), Vec3(0.0));
-    parallel_for(blend.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) {
-            const std::uint32_t v = blend[i];
-            const Vec3 x = positions[v];
-            const Vec3 n = normals[v];
-            // Normal equations of eq. (6) in the tangent plane: with p = (y − x)
-            // projected onto the plane ⊥ n, minimise Σ (g·p − (s(y) − s(x)))². The
-            // matrix Σ p pᵀ is singular along n; adding n nᵀ keeps g·n = 0.
-            glm::dmat3 normal_matrix(0.0);
-            Vec3 rhs(0.0);
-            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
-                const std::uint32_t y = rings.neighbours[k];
-                const Vec3 d = positions[y] - x;
-                const Vec3 p = d - glm::dot(d, n) * n;
-                normal_matrix += glm::outerProduct(p, p);
-                rhs += (s[y] - s[v]) * p;
-            }
-            const double scale = normal_matrix[0][0] + normal_matrix[1][1] + normal_matrix[2][2];
-            normal_matrix += scale * glm::outerProduct(n, n);
-            const double det = glm::determinant(normal_matrix);
-            // A ring that spans no plane (fewer than two independent directions) gives no gradient.
-            gradients[v] = det > 1e-12 * scale * scale * scale ? glm::inverse(normal_matrix) * rhs : Vec3(0.0);
-        }
-    });
+    if (gradients.size() != positions.size()) gradients.assign(positions.size(), Vec3(0.0));
+    for_each_vertex(blend, [&](std::uint32_t v) { gradients[v] = ring_gradient(positions, normals[v], s, rings, v); });
 }
 
-void smooth_gradients(const std::vector<Vec3>& normals, const std::vector<double>& s, const VertexRings& rings,
-                      const std::vector<std::uint32_t>& blend, int steps, double weight,
-                      std::vector<Vec3>& gradients, std::vector<Vec3>& scratch) {
-    // Both buffers hold 0 outside the blend region; the steps write only inside it.
-    scratch.assign(gradients.size(), Vec3(0.0));
-    for (std::size_t v = 0; v < gradients.size(); ++v)
-        if (!(s[v] > 0.0 && s[v] < 1.0)) gradients[v] = Vec3(0.0);
+void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts, int steps, double weight,
+                      std::vector<Vec3>& gradients, SmoothingScratch& scratch) {
+    const std::size_t n = parts.blend.size();
+    const auto pack = [](const Vec3& v) { return Float4{float(v.x), float(v.y), float(v.z), 0.0f}; };
+    scratch.gradients.resize(n);
+    scratch.next.resize(n);
+    scratch.normals.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        scratch.gradients[i] = pack(gradients[parts.blend[i]]);
+        scratch.normals[i] = pack(normals[parts.blend[i]]);
+    }
+    const float w = static_cast<float>(weight);
     for (int step = 0; step < steps; ++step) {
-        parallel_for(blend.size(), [&](std::size_t first, std::size_t last) {
+        parallel_for(n, [&](std::size_t first, std::size_t last) {
             for (std::size_t i = first; i < last; ++i) {
-                const std::uint32_t v = blend[i];
                 // Average over the neighbours inside the blend region only: outside it
                 // s is constant, ∇r there carries no information, and mixing it in
                 // would shrink ∇r along the region's borders.
-                Vec3 sum(0.0);
-                int count = 0;
-                for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
-                    const std::uint32_t y = rings.neighbours[k];
-                    if (s[y] > 0.0 && s[y] < 1.0) sum += gradients[y], ++count;
+                const std::uint32_t begin = parts.blend_ring_offsets[i], end = parts.blend_ring_offsets[i + 1];
+                Float4 g = scratch.gradients[i];
+                if (end > begin) {
+                    Float4 sum{};
+                    for (std::uint32_t k = begin; k < end; ++k) sum += scratch.gradients[parts.blend_rings[k]];
+                    g += w * (sum / float(end - begin) - g);
                 }
-                const Vec3 g = count > 0 ? gradients[v] + weight * (sum / double(count) - gradients[v]) : gradients[v];
-                scratch[v] = g - glm::dot(g, normals[v]) * normals[v];
+                const Float4 normal = scratch.normals[i];
+                const Float4 product = g * normal;
+                scratch.next[i] = g - (product[0] + product[1] + product[2]) * normal;
             }
         });
-        gradients.swap(scratch);
+        scratch.gradients.swap(scratch.next);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const Float4 g = scratch.gradients[i];
+        gradients[parts.blend[i]] = Vec3(g[0], g[1], g[2]);
     }
 }
 
-void predict_midpoints(const MotionSample& start, double h, const std::vector<double>& s,
+void predict_midpoints(const MotionSample& start, double h, const std::vector<double>& s, const RegionParts& parts,
                        const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions,
                        std::vector<Vec3>& midpoints) {
-    midpoints.resize(positions.size());
-    parallel_for(positions.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t v = first; v < last; ++v) {
-            const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
-            midpoints[v] = positions[v] + 0.5 * h * deformation_velocity(start, positions[v], bernstein_blend(s[v]), grad_b);
-        }
+    if (midpoints.size() != positions.size()) midpoints = positions;
+    for_each_vertex(parts.inner, [&](std::uint32_t v) {
+        midpoints[v] = positions[v] + 0.5 * h * inner_velocity(start, positions[v]);
+    });
+    for_each_vertex(parts.blend, [&](std::uint32_t v) {
+        const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
+        midpoints[v] = positions[v] + 0.5 * h * deformation_velocity(start, positions[v], bernstein_blend(s[v]), grad_b);
     });
 }
 
@@ -112,18 +179,17 @@ StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
     return {motion.at(t), motion.at(t + 0.5 * h), motion.at(t + h), h};
 }
 
-void deformation_step(const StepMotion& motion, const std::vector<double>& s, const std::vector<Vec3>& gradients,
-                      std::vector<Vec3>& positions) {
-    parallel_for(positions.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t v = first; v < last; ++v) {
-            // r = s and ∇r fixed over the step; ∇b = b'(s) ∇r (eq. 4 with r_i = 0, r_o = 1).
-            const double b = bernstein_blend(s[v]);
-            if (b == 1.0) continue;  // outer region: v = 0 exactly
-            const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
-            positions[v] = rk4(motion, positions[v], [&](const Vec3& x, const MotionSample& m) {
-                return deformation_velocity(m, x, b, grad_b);
-            });
-        }
+void deformation_step(const StepMotion& motion, const std::vector<double>& s, const RegionParts& parts,
+                      const std::vector<Vec3>& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to) {
+    const AffineStep rigid = rigid_rk4_step(motion);
+    for_each_vertex(parts.inner, [&](std::uint32_t v) { to[v] = rigid(from[v]); });
+    for_each_vertex(parts.blend, [&](std::uint32_t v) {
+        // r = s and ∇r fixed over the step; ∇b = b'(s) ∇r (eq. 4 with r_i = 0, r_o = 1).
+        const double b = bernstein_blend(s[v]);
+        const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
+        to[v] = rk4(motion, from[v], [&](const Vec3& x, const MotionSample& m) {
+            return deformation_velocity(m, x, b, grad_b);
+        });
     });
 }
 

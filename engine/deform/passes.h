@@ -24,26 +24,53 @@ void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rin
 // s = 0 and s = 1 (eq. 4), so the gradient and smoothing passes skip the rest.
 std::vector<std::uint32_t> blend_vertices(const std::vector<double>& s);
 
+// Which vertices each pass visits, found once per region. The blend region
+// (0 < s < 1) needs the full field and ∇r; the inner region (s ≤ 0, b = 0) moves
+// rigidly; the outer region (s ≥ 1, b = 1) does not move, so no pass touches it.
+// Smoothing averages over blend neighbours only, so their rings are kept apart.
+struct RegionParts {
+    std::vector<std::uint32_t> blend, inner;
+    // The neighbours y of blend[i] with 0 < s(y) < 1, as positions j in `blend`
+    // (y = blend[j]): blend_rings[blend_ring_offsets[i] .. blend_ring_offsets[i + 1]).
+    std::vector<std::uint32_t> blend_ring_offsets, blend_rings;
+
+    static RegionParts of(const std::vector<double>& s, const VertexRings& rings);
+};
+
 // Gradient pass, eq. (6): per vertex x of the blend region, the gradient g of the
 // linear function r(y) = s(x) + g·(y − x) with g·n(x) = 0 that fits s best, in the
-// least-squares sense, on the 1-ring of x. ∇r is 0 outside the blend region.
+// least-squares sense, on the 1-ring of x. ∇r is 0 outside the blend region: a
+// new `gradients` array is filled with 0 there, an old one keeps its entries.
 void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                         const std::vector<double>& s, const VertexRings& rings,
                         const std::vector<std::uint32_t>& blend, std::vector<Vec3>& gradients);
 
+// Four floats in one SIMD register (GCC/Clang vector extension: SSE on x86-64,
+// simd128 in WebAssembly built with -msimd128, plain scalar code elsewhere).
+using Float4 = float __attribute__((vector_size(16)));
+
+// Work arrays of the smoothing pass: the blend region's gradients and normals as
+// packed float records (x, y, z, 0), in the order of RegionParts::blend. Float, as
+// the GPU's textures hold them; one 16-byte load and one vector add per neighbour.
+struct SmoothingScratch {
+    std::vector<Float4> gradients, next, normals;
+};
+
 // Smoothing pass: `steps` Laplacian steps moving each gradient by `weight` toward
-// the mean gradient of its 1-ring neighbours with 0 < s < 1, kept tangent to the surface (normal removed),
-// on the blend region only (∇r stays 0 elsewhere). `scratch` is a work array.
-void smooth_gradients(const std::vector<Vec3>& normals, const std::vector<double>& s, const VertexRings& rings,
-                      const std::vector<std::uint32_t>& blend, int steps, double weight,
-                      std::vector<Vec3>& gradients, std::vector<Vec3>& scratch);
+// the mean gradient of its 1-ring neighbours with 0 < s < 1, kept tangent to the
+// surface (normal removed), on the blend region only (∇r stays as it is elsewhere:
+// 0 after the gradient pass).
+void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts, int steps, double weight,
+                      std::vector<Vec3>& gradients, SmoothingScratch& scratch);
 
 // Midpoint predictor: where each vertex will be half-way through the step, by one
 // Euler half step along the field with the previous step's gradients. The normal,
 // gradient and smoothing passes then run on these positions, so ∇r is taken at
 // the middle of the step instead of its start: second order in time instead of
 // first, and integrating back retraces the way forward (see docs/method.md).
-void predict_midpoints(const MotionSample& start, double h, const std::vector<double>& s,
+// Writes the inner and blend vertices; the outer region does not move, so a new
+// `midpoints` array starts as a copy of `positions` and an old one must hold them.
+void predict_midpoints(const MotionSample& start, double h, const std::vector<double>& s, const RegionParts& parts,
                        const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions,
                        std::vector<Vec3>& midpoints);
 
@@ -55,9 +82,11 @@ struct StepMotion {
 };
 
 // Deformation pass: one RK4 step of every vertex along v + ṽ (eqs. 1–4, 9–14)
-// with r = s and ∇r = `gradients`, both held fixed over the step.
-void deformation_step(const StepMotion& motion, const std::vector<double>& s, const std::vector<Vec3>& gradients,
-                      std::vector<Vec3>& positions);
+// with r = s and ∇r = `gradients`, both held fixed over the step, from `from` into
+// `to` (they may be the same array). Only the inner and blend vertices are
+// written: the outer ones stay where `to` has them (v = 0 there).
+void deformation_step(const StepMotion& motion, const std::vector<double>& s, const RegionParts& parts,
+                      const std::vector<Vec3>& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to);
 
 // The implicit sphere tool of VFSD [23] as region: r = |x − centre| with
 // thresholds r_inner < r_outer, evaluated at every RK4 stage (no mesh needed).

@@ -11,11 +11,12 @@ namespace {
 // y⊥ being the part of y perpendicular to Ω and ζ0 where the plane e = 0 lies
 // along the axis.
 Vec3 rotation_stream(const Vec3& omega, const Vec3& y, double plane = 0.0) {
-    const double len = glm::length(omega);
-    if (len == 0.0) return Vec3(0.0);
-    const Vec3 axis = omega / len;
-    const Vec3 y_perp = y - glm::dot(axis, y) * axis;
-    return 0.5 * glm::dot(y_perp, y_perp) * omega - (glm::dot(omega, y) - len * plane) * y_perp;
+    const double omega2 = glm::dot(omega, omega);
+    if (omega2 == 0.0) return Vec3(0.0);
+    const double along = glm::dot(omega, y);  // |Ω| times y's coordinate along the axis
+    const Vec3 y_perp = y - (along / omega2) * omega;
+    const double shift = plane == 0.0 ? 0.0 : std::sqrt(omega2) * plane;
+    return 0.5 * glm::dot(y_perp, y_perp) * omega - (along - shift) * y_perp;
 }
 
 }  // namespace
