@@ -9,11 +9,11 @@ out vec4 o_gradient;
 
 // Unit tangents t1, t2 with (t1, t2, n) orthonormal (Duff et al. 2017).
 void tangent_basis(vec3 n, out vec3 t1, out vec3 t2) {
-    float sign = n.z >= 0.0 ? 1.0 : -1.0;
-    float a = -1.0 / (sign + n.z);
+    float side = n.z >= 0.0 ? 1.0 : -1.0;
+    float a = -1.0 / (side + n.z);
     float b = n.x * n.y * a;
-    t1 = vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    t2 = vec3(b, sign + n.y * n.y * a, -n.y);
+    t1 = vec3(1.0 + side * n.x * n.x * a, side * b, -side * n.x);
+    t2 = vec3(b, side + n.y * n.y * a, -n.y);
 }
 
 void main() {
