@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/error.h"
+#include "base/parallel.h"
 #include "cli/commands.h"
 #include "deform/quality.h"
 #include "io/mesh_file.h"
@@ -124,11 +125,16 @@ int deform_and_write(const Args& args, const PreparedScene& prepared, D& deforma
 }  // namespace
 
 int run_deform(const Args& args) {
-    args.expect({"out", "report", "steps", "backend", "field-out", "force"}, 1, 1);
+    args.expect({"out", "report", "steps", "backend", "field-out", "force", "threads"}, 1, 1);
     const std::string scene_path = args.positional(0, "scene file");
     if (!args.has("out") || args.get("out").empty()) throw UsageError("--out OUT is required");
     const std::string backend = args.get("backend", "cpu");
     if (backend != "cpu" && backend != "gpu") throw UsageError("--backend must be 'cpu' or 'gpu'");
+    if (args.has("threads")) {
+        const double threads = args.get_number("threads", 0);
+        if (threads < 1 || threads != static_cast<int>(threads)) throw UsageError("--threads expects a positive integer");
+        set_parallel_thread_limit(static_cast<unsigned>(threads));
+    }
     Scene scene = load_scene(scene_path);
     if (args.has("steps")) {
         const double steps = args.get_number("steps", 0);

@@ -24,10 +24,11 @@ const std::vector<Command>& commands() {
          run_convert},
         {"deform", "deform a mesh as a scene file describes and report the result",
          "usage: vfsd deform SCENE.json --out OUT.{obj,off,ply,glb} [--report REPORT.json]\n"
-         "                  [--steps N] [--backend cpu|gpu] [--field-out FILE] [--force]\n"
+         "                  [--steps N] [--backend cpu|gpu] [--threads N] [--field-out FILE] [--force]\n"
          "\n"
          "--backend gpu runs the passes of sec. 5 in a headless GL context (OSMesa);\n"
-         "when none can be made vfsd exits 1 and says why.\n",
+         "when none can be made vfsd exits 1 and says why. --threads limits the CPU\n"
+         "backend's threads (default: all).\n",
          run_deform},
         {"render", "render a scene (optionally deformed to a time) to a PNG, headless",
          "usage: vfsd render SCENE.json --png OUT.png [--time t] [--size WxH] [--backend cpu|gpu]\n"

@@ -93,6 +93,7 @@ TEST_CASE("vfsd deform refuses bad scenes with one line and exit code 1", "[defo
     CHECK(deform(dir, "'" + scene + "'") == 2);
     CHECK(deform(dir, "'" + scene + "'" + out + " --backend vulkan") == 2);
     CHECK(deform(dir, "'" + scene + "'" + out + " --steps 2.5") == 2);
+    CHECK(deform(dir, "'" + scene + "'" + out + " --threads 0") == 2);
     // The input is never overwritten, an existing output only with --force.
     CHECK(deform(dir, "'" + scene + "' --out '" + dir.file("cube.stl") + "' --force") == 1);
     REQUIRE(deform(dir, "'" + scene + "'" + out) == 0);

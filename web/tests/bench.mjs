@@ -1,8 +1,23 @@
 // ms/step of the page on a larger mesh in headless Chromium, GPU path (WebGL2,
 // SwiftShader here: a software renderer) and CPU path (wasm, one thread):
 //   VFSD_WEB_SITE=build/web/site node web/tests/bench.mjs [builtin:sphere:6 ...]
-// (scripts/build-web first; docs/web.md has the figures.)
+// (scripts/build-web first; docs/web.md has the figures.) With VFSD_NATIVE set to
+// a native `vfsd`, the CPU run's scene is also deformed natively on one thread
+// and the wasm / native ratio printed.
+import { execFileSync } from 'node:child_process';
+import { mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
 import { openPage } from './harness.mjs';
+
+// ms/step of `vfsd deform` on one thread for the same scene.
+function nativeMsPerStep(scene) {
+  const dir = mkdtempSync(join(tmpdir(), 'vfsd-bench-'));
+  writeFileSync(join(dir, 'scene.json'), JSON.stringify(scene));
+  execFileSync(process.env.VFSD_NATIVE, ['deform', join(dir, 'scene.json'), '--out', join(dir, 'out.ply'),
+                                         '--report', join(dir, 'report.json'), '--threads', '1']);
+  return JSON.parse(readFileSync(join(dir, 'report.json'), 'utf8')).ms_per_step;
+}
 
 const meshes = process.argv.slice(2).length ? process.argv.slice(2) : ['builtin:sphere:6'];
 for (const mesh of meshes) {
@@ -21,6 +36,11 @@ for (const mesh of meshes) {
       const wall = (Date.now() - t0) / 1000;
       console.log(`${mesh}: ${stats.vertices} vertices, backend ${stats.backend}: ${stats.ms_per_step.toFixed(2)} ms/step ` +
                   `(250 steps in ${wall.toFixed(1)} s wall, volume error ${stats.volume_error_percent.toFixed(3)} %)`);
+      if (stats.backend === 'cpu' && process.env.VFSD_NATIVE) {
+        const native = nativeMsPerStep(await page.evaluate(() => window.vfsd.exportScene()));
+        console.log(`${mesh}: native vfsd deform, one thread: ${native.toFixed(2)} ms/step; ` +
+                    `wasm / native = ${(stats.ms_per_step / native).toFixed(2)}`);
+      }
     } finally {
       await close();
     }
