@@ -52,23 +52,30 @@ std::optional<std::size_t> pick_screen_point(const std::vector<Vec3>& points, do
     return best;
 }
 
-Vec3 drag_point(const Vec3& from, double x, double y, const Camera& camera, const Viewport& viewport, int axis) {
+Vec3 point_in_view_plane(const Vec3& on, double x, double y, const Camera& camera, const Viewport& viewport) {
     const Ray r = camera.ray(x, y, viewport);
-    if (axis < 0 || axis > 2) {
-        // The plane through `from` facing the camera.
-        const Vec3 n = camera.forward();
-        const double denom = glm::dot(r.direction, n);
-        if (std::abs(denom) < 1e-12) return from;
-        return r.origin + (glm::dot(from - r.origin, n) / denom) * r.direction;
-    }
-    // Closest point of the line from + s·e to the ray.
+    const Vec3 n = camera.forward();
+    const double denom = glm::dot(r.direction, n);
+    if (std::abs(denom) < 1e-12) return on;
+    return r.origin + (glm::dot(on - r.origin, n) / denom) * r.direction;
+}
+
+std::optional<double> line_parameter_at_pixel(const Vec3& on, const Vec3& direction, double x, double y,
+                                              const Camera& camera, const Viewport& viewport) {
+    // Closest points of two lines: on + s·direction and the ray.
+    const Ray r = camera.ray(x, y, viewport);
+    const Vec3 w = on - r.origin;
+    const double b = glm::dot(direction, r.direction), d = glm::dot(direction, w), f = glm::dot(r.direction, w);
+    const double denom = 1.0 - b * b;
+    if (denom < 1e-9) return std::nullopt;  // the line points at the eye
+    return (b * f - d) / denom;
+}
+
+Vec3 drag_point(const Vec3& from, double x, double y, const Camera& camera, const Viewport& viewport, int axis) {
+    if (axis < 0 || axis > 2) return point_in_view_plane(from, x, y, camera, viewport);
     Vec3 e(0.0);
     e[axis] = 1.0;
-    const Vec3 w = from - r.origin;
-    const double b = glm::dot(e, r.direction), d = glm::dot(e, w), f = glm::dot(r.direction, w);
-    const double denom = 1.0 - b * b;
-    if (denom < 1e-9) return from;  // the axis points at the eye
-    return from + ((b * f - d) / denom) * e;
+    return from + line_parameter_at_pixel(from, e, x, y, camera, viewport).value_or(0.0) * e;
 }
 
 }  // namespace vfsd::editor

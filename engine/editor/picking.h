@@ -28,6 +28,15 @@ std::optional<SurfaceHit> pick_surface(const Ray& ray, const std::vector<Vec3>& 
 std::optional<std::size_t> pick_screen_point(const std::vector<Vec3>& points, double x, double y,
                                              const Camera& camera, const Viewport& viewport, double radius = 10.0);
 
+// The point under pixel (x, y) of the plane through `on` facing the camera (`on`
+// itself when the ray runs along that plane).
+Vec3 point_in_view_plane(const Vec3& on, double x, double y, const Camera& camera, const Viewport& viewport);
+
+// The parameter s of the point on + s·direction (direction unit length) closest to
+// the ray through pixel (x, y); none when the line points at the eye.
+std::optional<double> line_parameter_at_pixel(const Vec3& on, const Vec3& direction, double x, double y,
+                                              const Camera& camera, const Viewport& viewport);
+
 // Where a point that started at `from` goes when dragged to pixel (x, y): in the
 // plane through `from` facing the camera, or along one axis (0 = x, 1 = y, 2 = z)
 // through `from` to the point of that line closest to the pixel's ray.
