@@ -4,6 +4,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <glm/trigonometric.hpp>
+
 #include "base/error.h"
 #include "editor/picking.h"
 
@@ -57,6 +59,58 @@ Tool paint_tool(const std::string& name) {
     if (name == "erase") return Tool::erase;
     if (name == "s") return Tool::paint_s;
     throw InputError("tool: expected inner, outer, erase or s, not '" + name + "'");
+}
+
+// The pointer's path for a gizmo drag from `grab`: to a pixel ("to"), by an offset
+// ("by"), or (rings) round the gizmo's centre by "degrees", counter-clockwise on
+// screen, in steps of at most 5 degrees.
+std::vector<glm::dvec2> gizmo_path(const ScriptAction& a, glm::dvec2 grab, glm::dvec2 centre) {
+    std::vector<glm::dvec2> path;
+    if (a.args.contains("degrees")) {
+        const double degrees = number(a, "degrees"), radius = glm::length(grab - centre);
+        const double start = std::atan2(-(grab.y - centre.y), grab.x - centre.x);
+        const int steps = std::max(1, int(std::ceil(std::abs(degrees) / 5.0)));
+        for (int k = 1; k <= steps; ++k) {
+            const double angle = start + glm::radians(degrees) * k / steps;
+            path.push_back(centre + radius * glm::dvec2(std::cos(angle), -std::sin(angle)));
+        }
+        return path;
+    }
+    const glm::dvec2 to = a.args.contains("by") ? grab + pixel(a.args["by"], "by") : pixel(a.args.value("to", json()), "to");
+    for (int k = 1; k <= 8; ++k) path.push_back(glm::mix(grab, to, k / 8.0));
+    return path;
+}
+
+// Presses on the part's grab point as a pointer would, moves along the path, releases.
+void drag_gizmo(const ScriptAction& a, EditorSession& session, ToolController& tools, const Camera& camera,
+                const Viewport& viewport) {
+    const GizmoPart part = parse_gizmo_part(text(a, "part"));
+    const auto gizmo = tools.gizmo(session, camera, viewport);
+    if (!gizmo) throw InputError("no handle: place one first (place-handle)");
+    const auto grab = gizmo->grab_point(part);
+    if (!grab) throw InputError(std::string(gizmo_part_name(part)) + " is not visible from this view");
+    const Tool previous = tools.tool;
+    tools.tool = Tool::navigate;
+    tools.press(session, camera, viewport, grab->x, grab->y);
+    const GizmoPart held = tools.highlighted_gizmo_part(session, camera, viewport, grab->x, grab->y);
+    if (held == part)
+        for (const glm::dvec2& p : gizmo_path(a, *grab, gizmo->centre())) tools.drag(session, camera, viewport, p.x, p.y);
+    tools.release(session);
+    tools.tool = previous;
+    if (held != part) throw InputError(std::string("the press grabbed ") + gizmo_part_name(held));
+    if (!tools.message.empty()) throw InputError(tools.message);
+}
+
+void place_handle_at(glm::dvec2 at, EditorSession& session, ToolController& tools, const Camera& camera,
+                     const Viewport& viewport) {
+    const Tool previous = tools.tool;
+    tools.tool = Tool::handle;
+    tools.press(session, camera, viewport, at.x, at.y);
+    tools.release(session);
+    const bool placed = tools.tool == Tool::navigate;  // the handle tool hands over to navigate
+    tools.tool = previous;
+    if (!placed) throw InputError(tools.message.empty() ? "no surface under the pixel" : tools.message);
+    tools.message.clear();
 }
 
 }  // namespace
@@ -195,6 +249,10 @@ bool ScriptRunner::execute(const ScriptAction& a, EditorSession& session, ToolCo
         tools.release(session);
         tools.axis = previous_axis;
         if (!tools.message.empty()) throw InputError(tools.message);
+    } else if (n == "place-handle") {
+        place_handle_at(pixel(a.args.value("at", json()), "at"), session, tools, camera, viewport);
+    } else if (n == "gizmo") {
+        drag_gizmo(a, session, tools, camera, viewport);
     } else if (n == "add-segment") {
         session.add_segment();
     } else if (n == "remove-segment") {

@@ -12,6 +12,9 @@
 //                      optional "target", "strength" (tool s)}
 //   {"action": "loops", "inner": [[x, y], ...], "outer": [[x, y], ...], "seed": [x, y]}
 //   {"action": "drag", "index": i, "to": [x, y], optional "axis": "x"|"y"|"z"}
+//   {"action": "place-handle", "at": [x, y]}   (handle mode, the handle on the surface there)
+//   {"action": "gizmo", "part": "centre"|"x"|"y"|"z"|"ring-x"|"ring-y"|"ring-z",
+//                      "to": [x, y] | "by": [dx, dy] | "degrees": a (rings, counter-clockwise on screen)}
 //   {"action": "add-segment"} {"action": "remove-segment"}
 //   {"action": "twist", "alpha": [a0, a1]} (degrees)   {"action": "inner-motion", "mode": "rotation"|"translation"}
 //   {"action": "set-time", "t": t}   {"action": "wait-until-time", "t": t}

@@ -1,5 +1,7 @@
 #include "editor/tools.h"
 
+#include <cmath>
+
 #include "base/error.h"
 #include "editor/picking.h"
 
@@ -14,6 +16,7 @@ const char* tool_name(Tool tool) {
         case Tool::erase: return "erase";
         case Tool::paint_s: return "paint s";
         case Tool::loops: return "loops";
+        case Tool::handle: return "handle";
     }
     return "?";
 }
@@ -30,6 +33,7 @@ void ToolController::adapt_to(const EditorSession& session) {
     clear_loops();
     active_ = Active::none;
     point_.reset();
+    gizmo_part_ = GizmoPart::none;
 }
 
 std::optional<std::size_t> ToolController::hovered_point(const EditorSession& session, const Camera& camera,
@@ -49,47 +53,118 @@ void ToolController::press_control_point(EditorSession& session, std::size_t ind
 bool ToolController::press(EditorSession& session, const Camera& camera, const Viewport& viewport, double x,
                            double y) {
     message.clear();
-    if (tool == Tool::navigate) {
-        const auto index = hovered_point(session, camera, viewport, x, y);
-        if (!index) return false;
-        press_control_point(session, *index);
-        return true;
-    }
+    if (tool == Tool::navigate) return press_navigate(session, camera, viewport, x, y);
     const auto hit = pick_surface(camera.ray(x, y, viewport), session.positions(), session.triangles());
     if (!hit) return false;
     try {
-        switch (tool) {
-            case Tool::geodesic: session.pick_geodesic(hit->nearest_vertex, g_min, g_max); return true;
-            case Tool::loops: {
-                if (loops_.size() < 2) {
-                    // A click near the loop's first point closes it.
-                    if (current_.size() >= 3) {
-                        const glm::dvec3 first = camera.project(
-                            surface_position(session.positions(), session.triangles(), current_.front()), viewport);
-                        if (glm::length(glm::dvec2(first.x - x, first.y - y)) < 8.0) {
-                            close_loop();
-                            return true;
-                        }
-                    }
-                    current_.push_back(hit->point);
-                    return true;
-                }
-                session.set_region_from_loops(loops_[0], loops_[1], hit->point);
-                clear_loops();
-                return true;
-            }
-            default:
-                session.begin_region_gesture();
-                active_ = Active::stroke;
-                last_dab_.reset();
-                dab(session, *hit);
-                return true;
-        }
+        return press_on_surface(session, camera, viewport, *hit, x, y);
     } catch (const std::exception& e) {
         message = e.what();
         if (tool == Tool::loops) clear_loops();
         return true;
     }
+}
+
+bool ToolController::press_navigate(EditorSession& session, const Camera& camera, const Viewport& viewport, double x,
+                                    double y) {
+    // The gizmo lies over the target point: it takes the press first.
+    const auto g = gizmo(session, camera, viewport);
+    const GizmoPart part = g ? g->hit(x, y) : GizmoPart::none;
+    if (part != GizmoPart::none) {
+        session.begin_curve_gesture();
+        active_ = Active::gizmo;
+        gizmo_part_ = part;
+        gizmo_last_ = {x, y};
+        return true;
+    }
+    const auto index = hovered_point(session, camera, viewport, x, y);
+    if (!index) return false;
+    press_control_point(session, *index);
+    return true;
+}
+
+bool ToolController::press_on_surface(EditorSession& session, const Camera& camera, const Viewport& viewport,
+                                      const SurfaceHit& hit, double x, double y) {
+    switch (tool) {
+        case Tool::geodesic: session.pick_geodesic(hit.nearest_vertex, g_min, g_max); return true;
+        case Tool::loops: return click_loop_point(session, camera, viewport, hit, x, y);
+        case Tool::handle: place_handle(session, camera, hit); return true;
+        default:
+            session.begin_region_gesture();
+            active_ = Active::stroke;
+            last_dab_.reset();
+            dab(session, hit);
+            return true;
+    }
+}
+
+bool ToolController::click_loop_point(EditorSession& session, const Camera& camera, const Viewport& viewport,
+                                      const SurfaceHit& hit, double x, double y) {
+    if (loops_.size() >= 2) {
+        // Both loops drawn: this click is the seed on the part that moves.
+        session.set_region_from_loops(loops_[0], loops_[1], hit.point);
+        clear_loops();
+        return true;
+    }
+    // A click near the loop's first point closes it.
+    if (current_.size() >= 3) {
+        const glm::dvec3 first =
+            camera.project(surface_position(session.positions(), session.triangles(), current_.front()), viewport);
+        if (glm::length(glm::dvec2(first.x - x, first.y - y)) < 8.0) {
+            close_loop();
+            return true;
+        }
+    }
+    current_.push_back(hit.point);
+    return true;
+}
+
+void ToolController::place_handle(EditorSession& session, const Camera& camera, const SurfaceHit& hit) {
+    // Handle mode (sec. 6.2): the handle sits on the surface, its normal along the
+    // surface normal (toward the eye); its target starts a quarter diagonal further out.
+    const Triangle& t = session.triangles()[hit.point.triangle];
+    const auto& p = session.positions();
+    Vec3 n = glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]);
+    if (glm::length(n) == 0.0) throw InputError("handle: the surface has no normal here");
+    n = glm::normalize(n);
+    if (glm::dot(n, camera.forward()) > 0.0) n = -n;
+    const Vec3 any = std::abs(n.x) < 0.9 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
+    HandleFrame from;
+    from.position = hit.position;
+    from.normal = n;
+    from.binormal = glm::normalize(glm::cross(n, any));
+    HandleFrame to = from;
+    to.position += 0.25 * session.diagonal() * n;
+    session.use_handle(from, to);
+    // The next drags move the target with the gizmo.
+    tool = Tool::navigate;
+    message = "handle placed: drag the gizmo on its target";
+}
+
+std::optional<HandleGizmo> ToolController::gizmo(const EditorSession& session, const Camera& camera,
+                                                 const Viewport& viewport) const {
+    const CurveSpec& c = session.curve().curve;
+    if (!c.is_handle) return std::nullopt;
+    return HandleGizmo(c.to, camera, viewport);
+}
+
+GizmoPart ToolController::highlighted_gizmo_part(const EditorSession& session, const Camera& camera,
+                                                 const Viewport& viewport, double x, double y) const {
+    if (active_ == Active::gizmo) return gizmo_part_;
+    if (tool != Tool::navigate || active_ != Active::none) return GizmoPart::none;
+    const auto g = gizmo(session, camera, viewport);
+    return g ? g->hit(x, y) : GizmoPart::none;
+}
+
+void ToolController::drag_gizmo(EditorSession& session, const Camera& camera, const Viewport& viewport, double x,
+                                double y) {
+    // Each pointer move turns the current target by its own small step, so a ring
+    // can be swept round more than half a turn.
+    const HandleFrame from = session.curve().curve.from;
+    const HandleGizmo g(session.curve().curve.to, camera, viewport);
+    const HandleFrame to = g.drag(gizmo_part_, gizmo_last_, {x, y});
+    gizmo_last_ = {x, y};
+    session.use_handle(from, to);
 }
 
 void ToolController::dab(EditorSession& session, const SurfaceHit& hit) {
@@ -108,6 +183,8 @@ void ToolController::drag(EditorSession& session, const Camera& camera, const Vi
     try {
         if (active_ == Active::point) {
             session.move_control_point(*point_, drag_point(point_start_, x, y, camera, viewport, axis));
+        } else if (active_ == Active::gizmo) {
+            drag_gizmo(session, camera, viewport, x, y);
         } else if (active_ == Active::stroke) {
             const auto hit = pick_surface(camera.ray(x, y, viewport), session.positions(), session.triangles());
             if (hit) dab(session, *hit);
@@ -120,10 +197,13 @@ void ToolController::drag(EditorSession& session, const Camera& camera, const Vi
 void ToolController::release(EditorSession& session) {
     if (active_ == Active::point)
         session.end_curve_gesture("move control point " + std::to_string(*point_));
+    else if (active_ == Active::gizmo)
+        session.end_curve_gesture(is_ring(gizmo_part_) ? "rotate handle" : "move handle");
     else if (active_ == Active::stroke)
         session.end_region_gesture(tool_name(tool));
     active_ = Active::none;
     point_.reset();
+    gizmo_part_ = GizmoPart::none;
 }
 
 void ToolController::close_loop() {

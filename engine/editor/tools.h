@@ -3,24 +3,29 @@
 // viewport. The shell (GLFW or a browser) forwards pointer events here and
 // navigates the camera itself when press() declines; scripts drive the same calls.
 //
-//   navigate  drag a control point (screen plane, or along one axis); elsewhere orbit
+//   navigate  drag a control point (screen plane, or along one axis); in handle
+//             mode drag the target's gizmo (editor/handle_gizmo.h); elsewhere orbit
 //   geodesic  click a vertex: the geodesic level region (eq. 15) with g_min / g_max
 //   inner / outer / erase   paint labels with a geodesic brush (eq. 16 region)
 //   paint s   pull s toward a value with a smooth brush
 //   loops     click points of the inner loop, close it, the outer loop, close it,
 //             then click the seed on the part that moves
+//   handle    click the surface: a handle there (sec. 6.2), then back to navigate
 
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "editor/camera.h"
+#include "editor/handle_gizmo.h"
 #include "editor/picking.h"
 #include "editor/session.h"
 
 namespace vfsd::editor {
 
-enum class Tool { navigate, geodesic, paint_inner, paint_outer, erase, paint_s, loops };
+enum class Tool { navigate, geodesic, paint_inner, paint_outer, erase, paint_s, loops, handle };
+inline constexpr Tool kAllTools[] = {Tool::navigate, Tool::geodesic, Tool::paint_inner, Tool::paint_outer,
+                                     Tool::erase,    Tool::paint_s,  Tool::loops,       Tool::handle};
 
 const char* tool_name(Tool tool);
 
@@ -48,6 +53,12 @@ public:
                                              const Viewport& viewport, double x, double y) const;
     std::optional<std::size_t> dragged_point() const { return point_; }
 
+    // Handle mode: the gizmo on the target pose (none otherwise), and the part to
+    // highlight: the one dragged, else the one under the pointer.
+    std::optional<HandleGizmo> gizmo(const EditorSession& session, const Camera& camera, const Viewport& viewport) const;
+    GizmoPart highlighted_gizmo_part(const EditorSession& session, const Camera& camera, const Viewport& viewport,
+                                     double x, double y) const;
+
     // Loops tool: the loops drawn so far and the one in progress.
     const std::vector<SurfaceLoop>& loops() const { return loops_; }
     const SurfaceLoop& loop_in_progress() const { return current_; }
@@ -56,11 +67,20 @@ public:
     void clear_loops();
 
 private:
-    enum class Active { none, point, stroke };
+    enum class Active { none, point, stroke, gizmo };
+    bool press_navigate(EditorSession& session, const Camera& camera, const Viewport& viewport, double x, double y);
+    bool press_on_surface(EditorSession& session, const Camera& camera, const Viewport& viewport,
+                          const SurfaceHit& hit, double x, double y);
+    bool click_loop_point(EditorSession& session, const Camera& camera, const Viewport& viewport,
+                          const SurfaceHit& hit, double x, double y);
+    void place_handle(EditorSession& session, const Camera& camera, const SurfaceHit& hit);
+    void drag_gizmo(EditorSession& session, const Camera& camera, const Viewport& viewport, double x, double y);
     void dab(EditorSession& session, const SurfaceHit& hit);
 
     Active active_ = Active::none;
     std::optional<std::size_t> point_;
+    GizmoPart gizmo_part_ = GizmoPart::none;
+    glm::dvec2 gizmo_last_{0.0};
     Vec3 point_start_{0.0};
     std::optional<Vec3> last_dab_;
     std::vector<SurfaceLoop> loops_;
