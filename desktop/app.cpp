@@ -256,6 +256,7 @@ void App::draw_overlay() {
         draw->AddCircleFilled(p, hot ? 7.0f : 5.0f, fill);
         draw->AddCircle(p, hot ? 7.0f : 5.0f, IM_COL32(20, 20, 20, 255), 0, 1.5f);
     }
+    draw_gizmo(draw, scale);
     // Loops in progress.
     for (const auto* loop : {&tools_.loop_in_progress()}) {
         for (std::size_t i = 0; i < loop->size(); ++i) {
@@ -283,6 +284,37 @@ void App::draw_overlay() {
             draw->AddCircle(c, std::hypot(r.x - c.x, r.y - c.y), IM_COL32(255, 255, 255, 230), 48, 2.0f);
         }
     }
+}
+
+void App::draw_gizmo(ImDrawList* draw, float scale) {
+    // Handle mode: the gizmo on the target pose, its hovered or dragged part highlighted.
+    const editor::Viewport v = viewport();
+    const auto gizmo = tools_.gizmo(*session_, camera_, v);
+    if (!gizmo) return;
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    const bool free = !ImGui::GetIO().WantCaptureMouse || tools_.active();
+    const editor::GizmoPart hot =
+        free ? tools_.highlighted_gizmo_part(*session_, camera_, v, mouse.x / scale, mouse.y / scale) : editor::GizmoPart::none;
+    const editor::GizmoShapes shapes = gizmo->shapes(hot);
+    const auto at = [&](glm::dvec2 p) { return ImVec2(float(p.x) * scale, float(p.y) * scale); };
+    // Each stroke over a dark one, so it shows on the blue and red regions alike.
+    const auto stroke = [&](const std::vector<glm::dvec2>& line, editor::Rgb c, bool bold, ImDrawFlags flags) {
+        std::vector<ImVec2> points;
+        for (const glm::dvec2& p : line) points.push_back(at(p));
+        const float width = bold ? 4.0f : 2.5f;
+        draw->AddPolyline(points.data(), int(points.size()), IM_COL32(20, 20, 20, 150), flags, width + 2.0f);
+        draw->AddPolyline(points.data(), int(points.size()), IM_COL32(c.r, c.g, c.b, 255), flags, width);
+    };
+    for (const editor::GizmoRing& ring : shapes.rings) stroke(ring.points, ring.colour, ring.part == hot, ImDrawFlags_Closed);
+    for (const editor::GizmoSegment& axis : shapes.axes) {
+        stroke({axis.from, axis.to}, axis.colour, axis.part == hot, ImDrawFlags_None);
+        draw->AddCircleFilled(at(axis.to), 5.0f, IM_COL32(axis.colour.r, axis.colour.g, axis.colour.b, 255));
+        draw->AddCircle(at(axis.to), 5.0f, IM_COL32(20, 20, 20, 150), 0, 1.0f);
+    }
+    const float r = float(shapes.centre_radius) * scale;
+    const editor::Rgb c = shapes.centre_colour;
+    draw->AddCircleFilled(at(shapes.centre), r, IM_COL32(c.r, c.g, c.b, 255));
+    draw->AddCircle(at(shapes.centre), r, IM_COL32(20, 20, 20, 255), 0, 1.5f);
 }
 
 int App::run() {

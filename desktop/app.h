@@ -16,6 +16,7 @@
 #include "gpu/renderer.h"
 
 struct GLFWwindow;
+struct ImDrawList;
 
 namespace vfsd::desktop {
 
@@ -50,6 +51,7 @@ private:
     void handle_shortcuts();
     void draw_scene();
     void draw_overlay();
+    void draw_gizmo(ImDrawList* draw, float scale);
     void draw_panels();
     void save_screenshot(const std::string& path) const;
     editor::Viewport viewport() const;

@@ -18,13 +18,14 @@ struct Shortcut {
 };
 
 constexpr Shortcut kShortcuts[] = {
-    {"N", "navigate: drag control points; elsewhere drag to orbit"},
+    {"N", "navigate: drag control points or the handle's gizmo; elsewhere drag to orbit"},
     {"G", "geodesic region: click a vertex"},
     {"I", "paint the inner region (moves fully)"},
     {"O", "paint the outer region (stays)"},
     {"E", "erase painted labels"},
     {"S", "paint s directly"},
     {"L", "draw boundary loops (Enter closes a loop)"},
+    {"H", "handle: click the surface to place a handle, then drag its gizmo"},
     {"[ / ]", "brush radius smaller / larger"},
     {"X / Y / Z", "constrain control point drags to an axis (again: free)"},
     {"Space", "play / pause"},
@@ -50,6 +51,7 @@ const char* shortcut_for(editor::Tool tool) {
         case editor::Tool::erase: return "E";
         case editor::Tool::paint_s: return "S";
         case editor::Tool::loops: return "L";
+        case editor::Tool::handle: return "H";
     }
     return "";
 }
@@ -82,7 +84,7 @@ void App::handle_shortcuts() {
     const std::pair<int, editor::Tool> tools[] = {
         {GLFW_KEY_N, editor::Tool::navigate},   {GLFW_KEY_G, editor::Tool::geodesic}, {GLFW_KEY_I, editor::Tool::paint_inner},
         {GLFW_KEY_O, editor::Tool::paint_outer}, {GLFW_KEY_E, editor::Tool::erase},   {GLFW_KEY_S, editor::Tool::paint_s},
-        {GLFW_KEY_L, editor::Tool::loops}};
+        {GLFW_KEY_L, editor::Tool::loops},      {GLFW_KEY_H, editor::Tool::handle}};
     for (const auto& [key, tool] : tools)
         if (!ctrl && pressed(key)) tools_.tool = tool;
     if (pressed(GLFW_KEY_LEFT_BRACKET)) tools_.brush.radius /= 1.2;
@@ -159,8 +161,7 @@ void App::draw_panels() {
 
     // ---- tools
     if (ImGui::CollapsingHeader("Tools", ImGuiTreeNodeFlags_DefaultOpen)) {
-        for (const auto tool : {editor::Tool::navigate, editor::Tool::geodesic, editor::Tool::paint_inner,
-                                editor::Tool::paint_outer, editor::Tool::erase, editor::Tool::paint_s, editor::Tool::loops}) {
+        for (const auto tool : editor::kAllTools) {
             if (ImGui::RadioButton(editor::tool_name(tool), tools_.tool == tool)) tools_.tool = tool;
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("shortcut: %s", shortcut_for(tool));
             if (tool != editor::Tool::paint_inner && tool != editor::Tool::paint_s) ImGui::SameLine();
@@ -209,6 +210,12 @@ void App::draw_panels() {
             if (ImGui::Button("Add segment")) s.add_segment();
             ImGui::SameLine();
             if (ImGui::Button("Remove segment")) s.remove_segment();
+            ImGui::SameLine();
+            if (ImGui::Button("Handle")) tools_.tool = editor::Tool::handle;
+            tooltip("H: click the surface to place a handle (sec. 6.2) instead of the curve");
+        } else {
+            ImGui::TextWrapped("Handle: drag the gizmo on the target. Centre: move in the screen plane; "
+                               "x / y / z axes (red, green, blue = normal): move along; rings: rotate about.");
         }
         editor::CurveSettings c = s.curve();
         int mode = c.inner_motion == InnerMotionMode::Rotation ? 0 : 1;

@@ -1,7 +1,9 @@
 // vfsd-desktop under Xvfb: the app starts on the default scene, a scripted session
 // paints, drags a control point, scrubs to t = 1, undoes and redoes, exports and
 // saves; the export equals `vfsd deform` of the saved scene, and the screenshots
-// show the inner (blue) and outer (red) regions and the curve.
+// show the inner (blue) and outer (red) regions and the curve. A second session
+// places a handle and drags its gizmo: the export changes, undo brings back the
+// undragged result, and the gizmo is on screen.
 
 #include <sys/wait.h>
 
@@ -62,12 +64,30 @@ std::string session_script(const Scratch& s, const std::string& tag) {
            "{\"action\": \"screenshot\", \"path\": \"" + p + "-end.png\"}\n";
 }
 
-int run_app(const Scratch& s, const std::string& tag, const std::string& options) {
+int run_script(const Scratch& s, const std::string& tag, const std::string& text, const std::string& options) {
     const std::string script = s.file(tag + ".jsonl");
-    std::ofstream(script) << session_script(s, tag);
+    std::ofstream(script) << text;
     // Mesa and GLFW keep some memory to the end: no leak report from a sanitizer build.
     return run("ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' '" VFSD_DESKTOP_PATH "' --script '" + script +
                "' --exit-after-script " + options + " >'" + s.file(tag + ".log") + "' 2>&1");
+}
+
+int run_app(const Scratch& s, const std::string& tag, const std::string& options) {
+    return run_script(s, tag, session_script(s, tag), options);
+}
+
+// A handle on the box's top face (around x = 570, y = 440), then `drags` of its
+// gizmo; t = 1, export, save, screenshot.
+std::string handle_script(const Scratch& s, const std::string& tag, const std::string& drags) {
+    const std::string p = s.file(tag);
+    return "{\"action\": \"wait-frames\", \"n\": 2}\n"
+           "{\"action\": \"place-handle\", \"at\": [570, 440]}\n" +
+           drags +
+           "{\"action\": \"set-time\", \"t\": 1}\n"
+           "{\"action\": \"wait-until-time\", \"t\": 1}\n"
+           "{\"action\": \"export\", \"path\": \"" + p + ".ply\"}\n"
+           "{\"action\": \"save-scene\", \"path\": \"" + p + ".json\"}\n"
+           "{\"action\": \"screenshot\", \"path\": \"" + p + ".png\"}\n";
 }
 
 double max_distance(const TriangleMesh& a, const TriangleMesh& b) {
@@ -78,12 +98,21 @@ double max_distance(const TriangleMesh& a, const TriangleMesh& b) {
     return worst;
 }
 
+// The export of `tag` against what `vfsd deform` computes for its saved scene (on
+// the CPU), as a fraction of the diagonal.
+double export_against_cli(const Scratch& s, const std::string& tag) {
+    REQUIRE(run("'" VFSD_CLI_PATH "' deform '" + s.file(tag + ".json") + "' --out '" + s.file(tag + "-cli.ply") +
+                "' >/dev/null 2>&1") == 0);
+    const TriangleMesh cli = load_mesh(s.file(tag + "-cli.ply"));
+    return max_distance(load_mesh(s.file(tag + ".ply")), cli) / bounding_box(cli.positions).diagonal();
+}
+
 struct Colours {
-    int blue = 0, red = 0, dark = 0;
+    int blue = 0, red = 0, dark = 0, green = 0;
 };
 
-// Counts the region colours and the near-black neutral pixels of the curve right
-// of x0 (the panels sit at the left).
+// Counts the region colours, the near-black neutral pixels of the curve and the
+// gizmo's green right of x0 (the panels sit at the left).
 Colours count_colours(const std::string& png, int x0) {
     int w = 0, h = 0, n = 0;
     unsigned char* data = stbi_load(png.c_str(), &w, &h, &n, 3);
@@ -96,6 +125,7 @@ Colours count_colours(const std::string& png, int x0) {
             if (b > 150 && r < 100 && g < 140) ++c.blue;
             if (r > 150 && g < 100 && b < 100) ++c.red;
             if (std::max({r, g, b}) < 60 && std::abs(r - g) < 15 && std::abs(g - b) < 15) ++c.dark;
+            if (g > 130 && r < 90 && b < 110) ++c.green;  // the gizmo's y axis and ring
         }
     stbi_image_free(data);
     return c;
@@ -109,15 +139,9 @@ TEST_CASE("vfsd-desktop: a scripted session matches vfsd deform and shows the re
         INFO("backend " << backend << "; log: " << s.file(backend + ".log"));
         REQUIRE(run_app(s, backend, "--backend " + backend) == 0);
 
-        // What the CLI computes for the saved scene (on the CPU).
-        REQUIRE(run("'" VFSD_CLI_PATH "' deform '" + s.file(backend + ".json") + "' --out '" +
-                    s.file(backend + "-cli.ply") + "' >/dev/null 2>&1") == 0);
-        const TriangleMesh app = load_mesh(s.file(backend + ".ply"));
-        const TriangleMesh cli = load_mesh(s.file(backend + "-cli.ply"));
-        const double diagonal = bounding_box(cli.positions).diagonal();
         // The GPU (float) and the CPU (double) agree to about 1e-6 of the diagonal;
         // the same backend agrees to the PLY files' float32.
-        CHECK(max_distance(app, cli) <= (backend == "cpu" ? 1e-6 : 1e-4) * diagonal);
+        CHECK(export_against_cli(s, backend) <= (backend == "cpu" ? 1e-6 : 1e-4));
 
         const Colours start = count_colours(s.file(backend + "-start.png"), 0);
         CHECK(start.blue > 2000);
@@ -128,4 +152,25 @@ TEST_CASE("vfsd-desktop: a scripted session matches vfsd deform and shows the re
         CHECK(end.red > 2000);
         CHECK(end.dark > 20);  // the control polygon
     }
+}
+
+TEST_CASE("vfsd-desktop: dragging the handle gizmo changes the result, undo brings it back", "[desktop]") {
+    Scratch s;
+    const std::string drags = "{\"action\": \"gizmo\", \"part\": \"ring-y\", \"degrees\": 30}\n"
+                              "{\"action\": \"gizmo\", \"part\": \"centre\", \"by\": [80, 0]}\n"
+                              "{\"action\": \"gizmo\", \"part\": \"z\", \"by\": [0, -25]}\n"
+                              "{\"action\": \"expect\", \"undo_count\": 4}\n";
+    const std::string undo = "{\"action\": \"undo\"}\n{\"action\": \"undo\"}\n{\"action\": \"undo\"}\n"
+                             "{\"action\": \"expect\", \"undo_count\": 1}\n";
+    for (const auto& [tag, actions] : {std::pair<std::string, std::string>{"placed", ""}, {"dragged", drags},
+                                       {"undone", drags + undo}}) {
+        INFO(tag << "; log: " << s.file(tag + ".log"));
+        REQUIRE(run_script(s, tag, handle_script(s, tag, actions), "") == 0);
+        CHECK(export_against_cli(s, tag) <= 1e-4);
+        CHECK(count_colours(s.file(tag + ".png"), 345).green > 100);  // the gizmo is drawn
+    }
+    const TriangleMesh placed = load_mesh(s.file("placed.ply"));
+    const double diagonal = bounding_box(placed.positions).diagonal();
+    CHECK(max_distance(load_mesh(s.file("dragged.ply")), placed) > 0.1 * diagonal);
+    CHECK(max_distance(load_mesh(s.file("undone.ply")), placed) < 1e-6 * diagonal);
 }
