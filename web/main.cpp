@@ -29,6 +29,7 @@
 #include "base/error.h"
 #include "editor/camera.h"
 #include "editor/gpu_live_deformation.h"
+#include "editor/handle_gizmo.h"
 #include "editor/picking.h"
 #include "editor/script.h"
 #include "editor/session.h"
@@ -76,10 +77,8 @@ private:
     EMSCRIPTEN_WEBGL_CONTEXT_HANDLE handle_;
 };
 
-// The editor's tools plus the web's "handle" tool (a click places a handle).
 std::optional<editor::Tool> core_tool(const std::string& name) {
-    for (const auto t : {editor::Tool::navigate, editor::Tool::geodesic, editor::Tool::paint_inner,
-                         editor::Tool::paint_outer, editor::Tool::erase, editor::Tool::paint_s, editor::Tool::loops})
+    for (const auto t : editor::kAllTools)
         if (name == editor::tool_name(t)) return t;
     return std::nullopt;
 }
@@ -87,6 +86,27 @@ std::optional<editor::Tool> core_tool(const std::string& name) {
 json points_json(const std::vector<Vec3>& points) {
     json out = json::array();
     for (const Vec3& p : points) out.push_back({p.x, p.y, p.z});
+    return out;
+}
+
+std::string css_colour(editor::Rgb c) {
+    return "rgb(" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " + std::to_string(c.b) + ")";
+}
+
+// The handle gizmo's shapes in canvas pixels (editor/handle_gizmo.h).
+json gizmo_json(const editor::GizmoShapes& shapes) {
+    json out = {{"axes", json::array()},
+                {"rings", json::array()},
+                {"centre", {shapes.centre.x, shapes.centre.y, shapes.centre_radius}},
+                {"centre_colour", css_colour(shapes.centre_colour)}};
+    for (const editor::GizmoRing& ring : shapes.rings) {
+        json points = json::array();
+        for (const glm::dvec2& p : ring.points) points.push_back({p.x, p.y});
+        out["rings"].push_back({{"points", points}, {"colour", css_colour(ring.colour)}});
+    }
+    for (const editor::GizmoSegment& axis : shapes.axes)
+        out["axes"].push_back({{"from", {axis.from.x, axis.from.y}}, {"to", {axis.to.x, axis.to.y}},
+                               {"colour", css_colour(axis.colour)}});
     return out;
 }
 
@@ -122,7 +142,6 @@ private:
     void init_gl();
     void open(const std::string& path);
     void load_scene(json scene);
-    void place_handle(double x, double y);
     void set(const json& c);
     void action(const std::string& name);
     json state() const;
@@ -138,7 +157,6 @@ private:
 
     std::unique_ptr<editor::EditorSession> session_;
     editor::ToolController tools_;
-    bool handle_tool_ = false;
     editor::Camera camera_;
     editor::SessionView view_;
     std::unique_ptr<editor::ScriptRunner> script_;
@@ -237,30 +255,6 @@ void App::load_scene(json scene) {
     load_error_.clear();
 }
 
-void App::place_handle(double x, double y) {
-    // Handle mode (sec. 6.2): the handle sits on the surface, its normal along the
-    // surface normal; its target starts a quarter diagonal further out.
-    const auto hit = editor::pick_surface(camera_.ray(x, y, viewport()), session_->positions(), session_->triangles());
-    if (!hit) return;
-    const Triangle& t = session_->triangles()[hit->point.triangle];
-    const auto& p = session_->positions();
-    Vec3 n = glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]);
-    if (glm::length(n) == 0.0) return;
-    n = glm::normalize(n);
-    if (glm::dot(n, camera_.forward()) > 0.0) n = -n;
-    const Vec3 any = std::abs(n.x) < 0.9 ? Vec3(1.0, 0.0, 0.0) : Vec3(0.0, 1.0, 0.0);
-    HandleFrame from;
-    from.position = hit->position;
-    from.normal = n;
-    from.binormal = glm::normalize(glm::cross(n, any));
-    HandleFrame to = from;
-    to.position += 0.25 * session_->diagonal() * n;
-    session_->use_handle(from, to);
-    // Now drag the target (control point 1).
-    handle_tool_ = false;
-    tools_.tool = editor::Tool::navigate;
-}
-
 void App::pointer(int kind, double x, double y, int button, bool shift) {
     const editor::Viewport v = viewport();
     const double dx = x - mouse_x_, dy = y - mouse_y_;
@@ -268,7 +262,6 @@ void App::pointer(int kind, double x, double y, int button, bool shift) {
     if (kind == 0) {  // press
         if (drag_ != Drag::none) return;
         if (button != 0 || shift) drag_ = Drag::pan;
-        else if (handle_tool_) place_handle(x, y);
         else if (tools_.press(*session_, camera_, v, x, y)) drag_ = Drag::tool;
         else drag_ = Drag::orbit;
     } else if (kind == 1) {  // move
@@ -293,12 +286,9 @@ void App::wheel(double delta, double x, double y) {
 void App::set(const json& c) {
     if (c.contains("tool")) {
         const std::string name = c["tool"];
-        handle_tool_ = name == "handle";
-        if (!handle_tool_) {
-            const auto t = core_tool(name);
-            if (!t) throw InputError("tool: unknown '" + name + "'");
-            tools_.tool = *t;
-        }
+        const auto t = core_tool(name);
+        if (!t) throw InputError("tool: unknown '" + name + "'");
+        tools_.tool = *t;
     }
     if (c.contains("radius")) tools_.brush.radius = c["radius"].get<double>();
     if (c.contains("s_target")) tools_.brush.s_target = c["s_target"].get<double>();
@@ -377,7 +367,7 @@ json App::state() const {
             {"renderer", gl_renderer_},
             {"target_time", s.target_time()},
             {"moving", s.moving()},
-            {"tool", handle_tool_ ? "handle" : editor::tool_name(tools_.tool)},
+            {"tool", editor::tool_name(tools_.tool)},
             {"radius", tools_.brush.radius},
             {"s_target", tools_.brush.s_target},
             {"strength", tools_.brush.strength},
@@ -410,16 +400,22 @@ json App::overlay() const {
         return s.z <= 1.0 ? json::array({s.x, s.y}) : json();
     };
     json out = {{"polygon", json::array()}, {"points", json::array()}, {"loops", json::array()},
-                {"current", json::array()}, {"brush", nullptr}};
+                {"current", json::array()}, {"brush", nullptr}, {"gizmo", nullptr}};
     const std::vector<Vec3> points = session_->control_points();
     const bool handle = session_->curve().curve.is_handle;
     for (std::size_t i = 0; i + 1 < points.size(); ++i)
         if (handle || i % 3 != 1) out["polygon"].push_back({px(points[i]), px(points[i + 1])});
-    const bool navigating = tools_.tool == editor::Tool::navigate && !handle_tool_ && mouse_x_ >= 0.0;
+    const bool navigating = tools_.tool == editor::Tool::navigate && mouse_x_ >= 0.0;
     const auto hovered = navigating ? tools_.hovered_point(*session_, camera_, v, mouse_x_, mouse_y_) : std::nullopt;
     for (std::size_t i = 0; i < points.size(); ++i) {
         const bool hot = hovered == i || tools_.dragged_point() == i;
         out["points"].push_back({{"at", px(points[i])}, {"knot", handle || i % 3 == 0}, {"hot", hot}});
+    }
+    if (const auto gizmo = tools_.gizmo(*session_, camera_, v)) {
+        const editor::GizmoPart hot = mouse_x_ >= 0.0 || tools_.active()
+                                          ? tools_.highlighted_gizmo_part(*session_, camera_, v, mouse_x_, mouse_y_)
+                                          : editor::GizmoPart::none;
+        if (gizmo->visible()) out["gizmo"] = gizmo_json(gizmo->shapes(hot));
     }
     const auto& p = session_->positions();
     const auto& t = session_->triangles();
@@ -431,7 +427,7 @@ json App::overlay() const {
     for (const SurfacePoint& q : tools_.loop_in_progress()) out["current"].push_back(px(surface_position(p, t, q)));
     const bool brush = tools_.tool == editor::Tool::paint_inner || tools_.tool == editor::Tool::paint_outer ||
                        tools_.tool == editor::Tool::erase || tools_.tool == editor::Tool::paint_s;
-    if (brush && !handle_tool_ && mouse_x_ >= 0.0) {
+    if (brush && mouse_x_ >= 0.0) {
         const auto hit = editor::pick_surface(camera_.ray(mouse_x_, mouse_y_, v), p, t);
         if (hit) {
             const glm::dvec3 c = camera_.project(hit->position, v);
@@ -489,6 +485,16 @@ json App::command(const json& c) {
             out["pixels"].push_back({q.x, q.y});
         }
         return out;
+    }
+    if (cmd == "gizmo") {
+        // Canvas pixels of a point on each part of the handle gizmo (tests aim the
+        // pointer with them); null outside handle mode.
+        const auto gizmo = tools_.gizmo(*session_, camera_, viewport());
+        if (!gizmo) return {{"parts", nullptr}};
+        json parts = json::object();
+        for (const editor::GizmoPart part : editor::kGizmoParts)
+            if (const auto p = gizmo->grab_point(part)) parts[editor::gizmo_part_name(part)] = {p->x, p->y};
+        return {{"parts", parts}, {"centre", {gizmo->centre().x, gizmo->centre().y}}};
     }
     if (cmd == "checksum") {
         // A cheap fingerprint of the current positions.

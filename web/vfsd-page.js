@@ -1,6 +1,6 @@
 // The browser editor's page: wires the controls, the pointer, the keyboard and
 // files to the engine (web/main.cpp, compiled to vfsd.js + vfsd.wasm), draws the
-// overlay (control points, loops, brush) on a 2D canvas above the WebGL2 one, and
+// overlay (control points, the handle gizmo, loops, brush) on a 2D canvas above the WebGL2 one, and
 // exposes the automation API window.vfsd (docs/web.md).
 'use strict';
 
@@ -119,6 +119,7 @@
       g.fillStyle = p.hot ? 'rgb(255, 200, 40)' : p.knot ? 'rgb(30, 30, 30)' : 'rgb(250, 250, 250)';
       g.fill(); g.strokeStyle = 'rgb(20, 20, 20)'; g.stroke();
     }
+    if (o.gizmo) drawGizmo(g, o.gizmo);
     g.strokeStyle = g.fillStyle = 'rgb(250, 230, 60)';
     g.lineWidth = 2;
     for (const loop of o.loops) {
@@ -133,6 +134,28 @@
       g.strokeStyle = 'rgba(255, 255, 255, 0.9)';
       g.beginPath(); g.arc(o.brush[0], o.brush[1], o.brush[2], 0, 2 * Math.PI); g.stroke();
     }
+  }
+
+  // The handle gizmo (docs/web.md): rings, axes with a dot at the tip, the centre
+  // disk; each stroke over a dark one, so it shows on the blue and red regions alike.
+  function drawGizmo(g, z) {
+    const stroke = (points, colour, closed) => {
+      g.beginPath();
+      points.forEach(([x, y], i) => (i ? g.lineTo(x, y) : g.moveTo(x, y)));
+      if (closed) g.closePath();
+      g.lineWidth = 4.5; g.strokeStyle = 'rgba(20, 20, 20, 0.6)'; g.stroke();
+      g.lineWidth = 2.5; g.strokeStyle = colour; g.stroke();
+    };
+    for (const ring of z.rings) stroke(ring.points, ring.colour, true);
+    for (const axis of z.axes) {
+      stroke([axis.from, axis.to], axis.colour, false);
+      g.beginPath(); g.arc(axis.to[0], axis.to[1], 5, 0, 2 * Math.PI);
+      g.fillStyle = axis.colour; g.fill();
+    }
+    const [x, y, r] = z.centre;
+    g.beginPath(); g.arc(x, y, r, 0, 2 * Math.PI);
+    g.fillStyle = z.centre_colour; g.fill();
+    g.lineWidth = 1.5; g.strokeStyle = 'rgb(20, 20, 20)'; g.stroke();
   }
 
   // ---- the panel follows the state ------------------------------------------------
@@ -395,6 +418,12 @@
     });
   }
 
+  // Canvas pixels to page (CSS) coordinates.
+  function toPage([x, y]) {
+    const rect = overlayCanvas.getBoundingClientRect();
+    return [rect.left + x * rect.width / overlayCanvas.width, rect.top + y * rect.height / overlayCanvas.height];
+  }
+
   const api = {
     ready,
     command,
@@ -428,9 +457,16 @@
     // Page (CSS) coordinates of points in mesh space, for aiming the pointer.
     project: (points) => {
       const r = command({ cmd: 'project', points });
-      const rect = overlayCanvas.getBoundingClientRect();
-      const sx = rect.width / overlayCanvas.width, sy = rect.height / overlayCanvas.height;
-      return { eye: r.eye, pixels: r.pixels.map(([x, y]) => [rect.left + x * sx, rect.top + y * sy]) };
+      return { eye: r.eye, pixels: r.pixels.map(toPage) };
+    },
+    // Page coordinates of a point on each part of the handle gizmo ('centre', 'x',
+    // 'y', 'z', 'ring-x', 'ring-y', 'ring-z') and of its centre; null without a handle.
+    gizmo: () => {
+      const r = command({ cmd: 'gizmo' });
+      if (!r.parts) return null;
+      const parts = {};
+      for (const [name, p] of Object.entries(r.parts)) parts[name] = toPage(p);
+      return { parts, centre: toPage(r.centre) };
     },
     exportMesh: (format) => exportMesh(format).data,
     exportScene: () => exportScene().scene,

@@ -27,8 +27,6 @@ constexpr Rgb kCentreColour{245, 245, 245};
 
 constexpr GizmoPart kAxisParts[3] = {GizmoPart::axis_x, GizmoPart::axis_y, GizmoPart::axis_z};
 constexpr GizmoPart kRingParts[3] = {GizmoPart::ring_x, GizmoPart::ring_y, GizmoPart::ring_z};
-constexpr GizmoPart kAllParts[7] = {GizmoPart::centre, GizmoPart::axis_x, GizmoPart::axis_y, GizmoPart::axis_z,
-                                    GizmoPart::ring_x, GizmoPart::ring_y, GizmoPart::ring_z};
 
 // 0, 1, 2 for the x, y, z axis or ring; -1 for the centre and none.
 int axis_index(GizmoPart part) {
@@ -78,7 +76,7 @@ const char* gizmo_part_name(GizmoPart part) {
 }
 
 GizmoPart parse_gizmo_part(const std::string& name) {
-    for (const GizmoPart part : kAllParts)
+    for (const GizmoPart part : kGizmoParts)
         if (name == gizmo_part_name(part)) return part;
     throw InputError("gizmo part: expected centre, x, y, z, ring-x, ring-y or ring-z, not '" + name + "'");
 }
@@ -164,7 +162,7 @@ GizmoPart HandleGizmo::hit(double x, double y) const {
     const glm::dvec2 p(x, y);
     GizmoPart best = GizmoPart::none;
     double best_distance = kPickPixels;
-    for (const GizmoPart part : kAllParts) {
+    for (const GizmoPart part : kGizmoParts) {
         const double d = distance_to(part, p);
         if (part == GizmoPart::centre && d == 0.0) return part;  // the disk covers what crosses it
         if (d <= best_distance) best_distance = d, best = part;
@@ -183,7 +181,7 @@ std::optional<glm::dvec2> HandleGizmo::grab_point(GizmoPart part) const {
     for (const glm::dvec2& c : candidates) {
         if (hit(c.x, c.y) != part) continue;
         double margin = std::numeric_limits<double>::infinity();
-        for (const GizmoPart other : kAllParts)
+        for (const GizmoPart other : kGizmoParts)
             if (other != part) margin = std::min(margin, distance_to(other, c));
         if (margin > best_margin) best_margin = margin, best = c;
     }

@@ -21,6 +21,8 @@
 namespace vfsd::editor {
 
 enum class GizmoPart { none, centre, axis_x, axis_y, axis_z, ring_x, ring_y, ring_z };
+inline constexpr GizmoPart kGizmoParts[] = {GizmoPart::centre, GizmoPart::axis_x, GizmoPart::axis_y, GizmoPart::axis_z,
+                                            GizmoPart::ring_x, GizmoPart::ring_y, GizmoPart::ring_z};
 
 // "centre", "x", "y", "z", "ring-x", "ring-y", "ring-z" ("none"); parse throws InputError.
 const char* gizmo_part_name(GizmoPart part);
