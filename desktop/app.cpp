@@ -290,7 +290,7 @@ void App::draw_gizmo(ImDrawList* draw, float scale) {
     // Handle mode: the gizmo on the target pose, its hovered or dragged part highlighted.
     const editor::Viewport v = viewport();
     const auto gizmo = tools_.gizmo(*session_, camera_, v);
-    if (!gizmo) return;
+    if (!gizmo || !gizmo->visible()) return;
     const ImVec2 mouse = ImGui::GetIO().MousePos;
     const bool free = !ImGui::GetIO().WantCaptureMouse || tools_.active();
     const editor::GizmoPart hot =
