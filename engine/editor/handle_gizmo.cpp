@@ -103,6 +103,7 @@ HandleGizmo::HandleGizmo(const HandleFrame& target, const Camera& camera, const 
     world_per_pixel_ = camera.pixel_size(viewport) * depth / camera.distance;
     visible_ = depth > 0.0 && camera.project(target.position, viewport).z <= 1.0;
     centre_ = pixel(target.position);
+    for (const GizmoPart part : kGizmoParts) outlines_[int(part)] = make_outline(part);
 }
 
 double HandleGizmo::axis_length() const { return kAxisPixels * world_per_pixel_; }
@@ -125,7 +126,7 @@ std::vector<glm::dvec2> HandleGizmo::ring_points(int axis) const {
     return points;
 }
 
-std::vector<glm::dvec2> HandleGizmo::outline(GizmoPart part) const {
+std::vector<glm::dvec2> HandleGizmo::make_outline(GizmoPart part) const {
     if (!visible_) return {};
     const int k = axis_index(part);
     if (part == GizmoPart::centre) return {centre_};
@@ -137,7 +138,7 @@ std::vector<glm::dvec2> HandleGizmo::outline(GizmoPart part) const {
 }
 
 double HandleGizmo::distance_to(GizmoPart part, glm::dvec2 p) const {
-    const std::vector<glm::dvec2> line = outline(part);
+    const std::vector<glm::dvec2>& line = outline(part);
     if (line.empty()) return std::numeric_limits<double>::infinity();
     const double d = distance_to_polyline(p, line);
     return part == GizmoPart::centre ? std::max(0.0, d - kCentrePixels) : d;
@@ -148,9 +149,9 @@ GizmoShapes HandleGizmo::shapes(GizmoPart hot) const {
     if (!visible_) return out;
     for (int k = 0; k < 3; ++k) {
         const Rgb colour = kAxisParts[k] == hot ? kHotColour : kAxisColours[k];
-        const std::vector<glm::dvec2> line = outline(kAxisParts[k]);
+        const std::vector<glm::dvec2>& line = outline(kAxisParts[k]);
         if (line.size() == 2) out.axes.push_back({kAxisParts[k], line[0], line[1], colour});
-        out.rings.push_back({kRingParts[k], ring_points(k), kRingParts[k] == hot ? kHotColour : kAxisColours[k]});
+        out.rings.push_back({kRingParts[k], outline(kRingParts[k]), kRingParts[k] == hot ? kHotColour : kAxisColours[k]});
     }
     out.centre = centre_;
     out.centre_radius = kCentrePixels;
@@ -172,7 +173,7 @@ GizmoPart HandleGizmo::hit(double x, double y) const {
 
 std::optional<glm::dvec2> HandleGizmo::grab_point(GizmoPart part) const {
     // Candidates along the part; the one farthest from every other part wins.
-    const std::vector<glm::dvec2> line = outline(part);
+    const std::vector<glm::dvec2>& line = outline(part);
     std::vector<glm::dvec2> candidates = line.size() == 1 ? line : std::vector<glm::dvec2>{};
     for (std::size_t i = 0; i + 1 < line.size(); ++i)
         for (int k = 0; k < 8; ++k) candidates.push_back(glm::mix(line[i], line[i + 1], k / 8.0));

@@ -92,8 +92,9 @@ public:
 private:
     glm::dvec2 pixel(const Vec3& p) const;
     std::vector<glm::dvec2> ring_points(int axis) const;
+    std::vector<glm::dvec2> make_outline(GizmoPart part) const;
+    const std::vector<glm::dvec2>& outline(GizmoPart part) const { return outlines_[int(part)]; }
     double distance_to(GizmoPart part, glm::dvec2 p) const;
-    std::vector<glm::dvec2> outline(GizmoPart part) const;
 
     HandleFrame frame_;
     Camera camera_;
@@ -102,6 +103,8 @@ private:
     glm::dvec2 centre_{0.0};
     double world_per_pixel_ = 0.0;
     bool visible_ = false;
+    // Per part (indexed by GizmoPart): its pixels, a point or a polyline; empty when hidden.
+    std::array<std::vector<glm::dvec2>, 8> outlines_;
 };
 
 }  // namespace vfsd::editor
