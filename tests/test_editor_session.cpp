@@ -1,7 +1,11 @@
-// The editor session: what it saves is what `vfsd deform` computes, failed loads
-// change nothing, a plain mesh opens ready to deform, scripts parse.
+// The editor session: what it saves is what `vfsd deform` computes, failed loads,
+// saves, exports and integrations keep the last good state and say why, a plain
+// mesh opens ready to deform, scripts parse.
 
 #include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
 
 #include "base/error.h"
 #include "editor/script.h"
@@ -103,6 +107,58 @@ TEST_CASE("EditorSession: a failed load keeps the current mesh and history", "[e
     CHECK(session.mesh_name() == "builtin:bar");
     CHECK(session.s() == s);
     CHECK(session.history().undo_count() == 1);
+}
+
+TEST_CASE("EditorSession: a failed save or export changes nothing and says why", "[editor][session]") {
+    test::ScratchDir dir;
+    EditorSession session;
+    session.open_mesh("builtin:bar");
+    session.move_control_point(3, session.control_points()[3] + Vec3(0.5, 0.0, 0.0));
+    session.set_target_time(0.5);
+    run_to_target(session);
+    session.save_scene(dir.file("kept.json"));
+    const std::string kept = test::read_bytes(dir.file("kept.json"));
+    const Scene scene = session.current_scene();
+    const std::vector<Vec3> positions = session.positions();
+    const std::uint64_t revision = session.document_revision();
+
+    CHECK_THROWS_WITH(session.save_scene(dir.file("missing/scene.json")), Catch::Contains("missing/scene"));
+    CHECK_THROWS_WITH(session.export_mesh(dir.file("missing/out.obj")), Catch::Contains("missing/out.obj"));
+    CHECK_THROWS_AS(session.export_mesh(dir.file("out.xyz")), Error);
+    std::filesystem::create_directory(dir.file("taken.json"));  // a folder where the file should go
+    CHECK_THROWS_AS(session.save_scene(dir.file("taken.json")), IoError);
+    CHECK(scene_to_json(session.current_scene()) == scene_to_json(scene));
+    CHECK(session.positions() == positions);
+    CHECK(session.document_revision() == revision);
+    CHECK(session.history().undo_count() == 1);
+    CHECK(test::read_bytes(dir.file("kept.json")) == kept);
+    for (const auto& entry : std::filesystem::directory_iterator(dir.path()))  // no temporary file left behind
+        CHECK(entry.path().filename().string().find(".tmp") == std::string::npos);
+}
+
+TEST_CASE("EditorSession: a non-finite integration stops at the last good shape with one message", "[editor][session]") {
+    EditorSession session;
+    Scene scene = load_scene(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json");
+    scene.curve.bezier = {{0, 0, 0.6}, {0, 0, 1e307}, {1e307, 0, 1e307}, {1e307, 1e307, 1e307}};
+    scene.inner_motion = InnerMotionMode::Translation;
+    session.open_scene(scene);
+    const std::size_t warnings = session.warnings().size();
+    session.set_target_time(1.0);
+    run_to_target(session);
+    CHECK_FALSE(session.moving());
+    CHECK(session.target_time() == session.time());
+    CHECK(session.time() < 1.0);
+    for (const Vec3& p : session.positions()) REQUIRE(std::isfinite(p.x + p.y + p.z));
+    REQUIRE(session.warnings().size() == warnings + 1);
+    CHECK_THAT(session.warnings().back(), Catch::StartsWith("deformation stopped: ") && Catch::Contains("non-finite"));
+    // A usable curve deforms again and the message goes.
+    CurveSettings curve = session.curve();
+    curve.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.8}, {0.1, 0, 1.0}, {0.3, 0, 1.1}};
+    session.set_curve(curve);
+    session.set_target_time(1.0);
+    run_to_target(session);
+    CHECK(session.time() == 1.0);
+    CHECK(session.warnings().size() == warnings);
 }
 
 TEST_CASE("EditorSession: a plain mesh opens with a region and a curve that deform it", "[editor][session]") {

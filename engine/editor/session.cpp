@@ -5,6 +5,7 @@
 
 #include "base/error.h"
 #include "deform/quality.h"
+#include "io/format_io.h"
 #include "mesh/geometry.h"
 #include "mesh/validation.h"
 #include "region/selectors.h"
@@ -82,6 +83,28 @@ Scene with_curve(Scene scene, const CurveSettings& c) {
 
 bool is_builtin(const std::string& mesh) { return mesh.rfind("builtin:", 0) == 0; }
 
+// `copy` holds the bytes of `source` already: the same file, or a copy written
+// after the source's last change.
+bool copy_is_current(const std::filesystem::path& source, const std::filesystem::path& copy) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::exists(copy, ec)) return false;
+    if (fs::equivalent(source, copy, ec)) return true;
+    return fs::file_size(source, ec) == fs::file_size(copy, ec) && !ec &&
+           fs::last_write_time(copy, ec) >= fs::last_write_time(source, ec) && !ec;
+}
+
+// Copies the mesh file `source` beside the scene file `scene_path` as
+// SCENE.input.EXT (unless the copy is current); returns that name.
+std::string copy_beside(const std::string& source, const std::string& scene_path) {
+    namespace fs = std::filesystem;
+    const fs::path scene(scene_path);
+    const std::string name = scene.stem().string() + ".input" + fs::path(source).extension().string();
+    const fs::path copy = fs::absolute(scene).parent_path() / name;
+    if (!copy_is_current(source, copy)) write_file_atomically(copy.string(), io::read_file_bytes(source));
+    return name;
+}
+
 }  // namespace
 
 EditorSession::EditorSession(DeformationFactory gpu, std::string gpu_reason)
@@ -143,13 +166,13 @@ void EditorSession::replace_document(Document doc) {
     motion_ = std::move(motion);
     s_ = std::move(region.s);
     region_warnings_ = std::move(region_warnings);
-    runtime_error_.clear();
     history_.clear();
     region_gesture_ = curve_gesture_ = false;
     diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
     if (!(diagonal_ > 0.0)) diagonal_ = 1.0;
     base_volume_ = signed_volume(doc_.file.mesh.positions, doc_.file.mesh.triangles);
-    target_ = 0.0;
+    set_target(0.0);
+    ++document_revision_;
     stats_.vertices = doc_.file.mesh.vertex_count();
     stats_.triangles = doc_.file.mesh.triangle_count();
     drop_deformation();
@@ -164,7 +187,7 @@ Scene EditorSession::current_scene() const {
     return scene;
 }
 
-void EditorSession::save_scene(const std::string& path) const {
+void EditorSession::save_scene(const std::string& path, InputMesh input) const {
     namespace fs = std::filesystem;
     Scene scene = current_scene();
     const fs::path dir = fs::absolute(path).parent_path();
@@ -176,6 +199,8 @@ void EditorSession::save_scene(const std::string& path) const {
         options.write_scalar = false;
         write_mesh_file((dir / name).string(), doc_.file.mesh, options);
         scene.mesh = name;
+    } else if (!is_builtin(scene.mesh) && input == InputMesh::copied) {
+        scene.mesh = copy_beside(scene.mesh, path);
     } else if (!is_builtin(scene.mesh)) {
         scene.mesh = fs::proximate(fs::absolute(scene.mesh), dir).string();
     }
@@ -218,6 +243,7 @@ void EditorSession::region_changed() {
     s_ = build_region(region_spec(), doc_.file.mesh.positions, doc_.rings, warnings).s;
     region_warnings_ = std::move(warnings);
     drop_deformation();
+    ++document_revision_;
     refresh_curve_warnings();
 }
 
@@ -322,7 +348,7 @@ void EditorSession::set_region_from_loops(const SurfaceLoop& inner, const Surfac
 void EditorSession::curve_changed() {
     motion_ = scene_motion(with_curve(doc_.scene, doc_.curve));
     drop_deformation();
-    ++curve_revision_;
+    ++curve_revision_, ++document_revision_;
     refresh_curve_warnings();
 }
 
@@ -413,18 +439,24 @@ void EditorSession::refresh_curve_warnings() {
 
 double EditorSession::time() const { return deformation_ ? deformation_->time() : 0.0; }
 
-void EditorSession::set_target_time(double t) { target_ = std::clamp(t, 0.0, 1.0); }
+void EditorSession::set_target_time(double t) { set_target(std::clamp(t, 0.0, 1.0)); }
+
+void EditorSession::set_target(double t) {
+    if (t == target_) return;
+    target_ = t;
+    ++document_revision_;
+}
 
 void EditorSession::play() {
     if (time() >= 1.0) reset();
-    target_ = 1.0;
+    set_target(1.0);
 }
 
-void EditorSession::pause() { target_ = time(); }
+void EditorSession::pause() { set_target(time()); }
 
 void EditorSession::reset() {
     drop_deformation();
-    target_ = 0.0;
+    set_target(0.0);
 }
 
 void EditorSession::set_force_cpu(bool cpu) {
@@ -434,6 +466,8 @@ void EditorSession::set_force_cpu(bool cpu) {
 }
 
 void EditorSession::drop_deformation() {
+    // The next deformation starts afresh: the last one's error goes with it.
+    runtime_error_.clear();
     deformation_.reset();
     prepared_.reset();
     stats_.ms_per_step = 0.0;
@@ -470,7 +504,7 @@ int EditorSession::update(int max_steps) {
         }
     } catch (const std::exception& e) {
         runtime_error_ = std::string("deformation stopped: ") + e.what();
-        target_ = time();
+        set_target(time());
     }
     return taken;
 }
@@ -494,6 +528,7 @@ std::vector<std::string> EditorSession::warnings() const {
     out.insert(out.end(), region_warnings_.begin(), region_warnings_.end());
     out.insert(out.end(), curve_warnings_.begin(), curve_warnings_.end());
     if (!runtime_error_.empty()) out.push_back(runtime_error_);
+    if (!autosave_warning_.empty()) out.push_back(autosave_warning_);
     return out;
 }
 
@@ -529,7 +564,7 @@ void EditorSession::apply() {
     bake.curve_after.twist_degrees[0] = bake.curve_after.twist_degrees[1] = 0.0;
     apply_edit(bake, true);
     history_.push({"apply deformation", std::move(bake)});
-    target_ = 0.0;
+    set_target(0.0);
 }
 
 void EditorSession::apply_edit(const Edit& edit, bool forward) {

@@ -33,6 +33,11 @@ struct SessionStats {
 
 enum class BrushTool { paint_inner, paint_outer, erase, paint_s };
 
+// How save_scene refers to an input mesh file (not builtin:, not applied): by a
+// path relative to the scene, or by a copy of the file beside the scene
+// (NAME.input.EXT), so that the scene's folder holds all it needs (the autosave).
+enum class InputMesh { referenced, copied };
+
 struct BrushSettings {
     BrushTool tool = BrushTool::paint_inner;
     double radius = 0.1;     // geodesic, in mesh units
@@ -56,9 +61,11 @@ public:
     void open(const std::string& path);
 
     // The session as a scene. save_scene writes it (the base mesh next to it as
-    // NAME.mesh.ply after an apply), with target_time = the current target.
+    // NAME.mesh.ply after an apply), with target_time = the current target. A
+    // failed save throws IoError and leaves the session and any existing file as
+    // they were.
     Scene current_scene() const;
-    void save_scene(const std::string& path) const;
+    void save_scene(const std::string& path, InputMesh input = InputMesh::referenced) const;
     // The mesh at the current time in the input file's layout (.obj .ply .glb .off).
     void export_mesh(const std::string& path) const;
 
@@ -122,10 +129,15 @@ public:
     std::uint64_t revision() const { return revision_; }
     std::uint64_t mesh_revision() const { return mesh_revision_; }
     std::uint64_t curve_revision() const { return curve_revision_; }
+    // Bumped whenever what save_scene() writes changes: the mesh or its base
+    // positions, the region, the curve or the target time (not while time advances).
+    std::uint64_t document_revision() const { return document_revision_; }
 
     const SessionStats& stats() const { return stats_; }
-    // Mesh, region and curve warnings, and the last runtime error.
+    // Mesh, region and curve warnings, the last runtime error and the autosave's problem.
     std::vector<std::string> warnings() const;
+    // The autosave's last problem (editor/autosave.h); empty clears it.
+    void set_autosave_warning(std::string text) { autosave_warning_ = std::move(text); }
 
     void set_force_cpu(bool cpu);
     DeformationOptions& options() { return doc_.scene.options; }
@@ -149,6 +161,7 @@ private:
     void refresh_curve_warnings();
     void set_region(const RegionSource& next, const RegionEdit& paint, const std::string& label);
     void apply_edit(const Edit& edit, bool forward);
+    void set_target(double t);
     void drop_deformation();
     void ensure_deformation();
     void update_stats();
@@ -160,7 +173,7 @@ private:
     Document doc_;
     std::vector<double> s_;
     std::vector<std::string> region_warnings_, curve_warnings_;
-    std::string runtime_error_;
+    std::string runtime_error_, autosave_warning_;
     InnerMotion motion_;
     double diagonal_ = 1.0;
     double base_volume_ = 0.0;
@@ -175,7 +188,7 @@ private:
     std::unique_ptr<LiveDeformation> deformation_;
     double target_ = 0.0;
     SessionStats stats_;
-    std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1;
+    std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1, document_revision_ = 1;
 };
 
 }  // namespace vfsd::editor
