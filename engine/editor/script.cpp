@@ -115,6 +115,10 @@ void place_handle_at(glm::dvec2 at, EditorSession& session, ToolController& tool
 
 }  // namespace
 
+void ScriptHost::autosave_now() { throw InputError("this editor keeps no autosave"); }
+void ScriptHost::answer_restore(bool) { throw InputError("this editor keeps no autosave"); }
+void ScriptHost::simulate_crash() { throw InputError("this editor cannot simulate a crash"); }
+
 std::vector<ScriptAction> parse_script(const std::string& source_text, const std::string& source) {
     std::vector<ScriptAction> actions;
     auto add = [&](const json& j, const std::string& where) {
@@ -309,6 +313,14 @@ bool ScriptRunner::execute(const ScriptAction& a, EditorSession& session, ToolCo
         host.screenshot(text(a, "path"), a.args.value("ui", true));
     } else if (n == "wait-frames") {
         return waited_frames_ >= int(number(a, "n"));
+    } else if (n == "autosave") {
+        host.autosave_now();
+    } else if (n == "restore-autosave") {
+        const std::string answer = text(a, "answer");
+        if (answer != "restore" && answer != "discard") throw InputError("answer: expected restore or discard");
+        host.answer_restore(answer == "restore");
+    } else if (n == "simulate-crash") {
+        host.simulate_crash();
     } else if (n == "expect") {
         if (a.args.contains("time") && std::abs(session.time() - number(a, "time")) > 1e-9)
             throw InputError("time is " + std::to_string(session.time()));

@@ -24,6 +24,8 @@
 //   {"action": "export", "path": P} {"action": "save-scene", "path": P}
 //   {"action": "screenshot", "path": P, optional "ui": false}
 //   {"action": "wait-frames", "n": n}
+//   {"action": "autosave"}   {"action": "restore-autosave", "answer": "restore"|"discard"}
+//   {"action": "simulate-crash"}   (ends the editor at once: no clean exit, the autosave stays)
 //   {"action": "expect", "time": t | "undo_count": n | "warnings": n}   (checks; fail the script)
 
 #include <string>
@@ -56,6 +58,12 @@ public:
     // A loaded mesh or scene: the application frames it.
     virtual void loaded() = 0;
     virtual void log(const std::string& line) = 0;
+    // The autosave (editor/autosave.h), in editors that keep one; the defaults
+    // throw InputError. Write it now; answer the start-up offer to restore it; end
+    // the process as a crash would, without the clean exit that clears it.
+    virtual void autosave_now();
+    virtual void answer_restore(bool restore);
+    virtual void simulate_crash();
 };
 
 class ScriptRunner {
