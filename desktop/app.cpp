@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include <GLFW/glfw3.h>
@@ -10,6 +11,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <imgui.h>
 
+#include "base/error.h"
 #include "editor/gpu_live_deformation.h"
 #include "gpu/capabilities.h"
 #include "gpu/context.h"
@@ -31,10 +33,13 @@ private:
 
 // Per frame the deformation may take about this long, so the UI stays responsive.
 constexpr double kStepBudgetMs = 15.0;
+// A changed session is autosaved at most this often.
+constexpr double kAutosaveSeconds = 10.0;
+constexpr const char* kRestoreTitle = "Restore autosave";
 
 }  // namespace
 
-App::App(const AppOptions& options) : options_(options) {
+App::App(const AppOptions& options) : options_(options), autosave_(editor::default_autosave_directory(), kAutosaveSeconds) {
     glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "GLFW error %d: %s\n", code, text); });
     if (!glfwInit()) throw std::runtime_error("cannot initialise GLFW (no display? set DISPLAY or use xvfb-run)");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
@@ -90,6 +95,8 @@ App::App(const AppOptions& options) : options_(options) {
         tools_.adapt_to(*session_);
         loaded();
     }
+    autosave_.mark_saved(*session_);
+    if (first.empty()) offer_restore();
     if (!options.script.empty()) script_ = std::make_unique<editor::ScriptRunner>(editor::load_script(options.script));
 }
 
@@ -141,6 +148,53 @@ void App::open(const std::string& path) {
 }
 
 void App::on_drop(const std::string& path) { open(path); }
+
+// ---- autosave ------------------------------------------------------------------
+
+void App::offer_restore() {
+    autosave_.offer_restore(*session_);
+    if (const auto& offer = autosave_.offer())
+        log("autosave: " + offer->mesh + " from " + offer->written_text() + " in " + autosave_.directory());
+    else if (!autosave_.problem().empty())
+        log(autosave_.problem());
+}
+
+void App::answer_restore(bool restore) {
+    if (autosave_.answer(*session_, restore)) {
+        tools_.adapt_to(*session_);
+        loaded();
+    }
+    status_ = !restore ? "discarded the autosave" : autosave_.problem().empty() ? "restored the autosave" : "";
+    if (!autosave_.problem().empty()) log(autosave_.problem());
+}
+
+void App::autosave_now() {
+    if (autosave_.offer()) throw InputError("answer the offer to restore the autosave first");
+    if (!autosave_.save(*session_)) throw IoError(session_->warnings().back());
+}
+
+void App::simulate_crash() {
+    log("script: simulated crash (the autosave stays)");
+    std::fflush(stderr);
+    std::_Exit(3);
+}
+
+void App::draw_restore_offer() {
+    const auto& offer = autosave_.offer();
+    if (offer && !ImGui::IsPopupOpen(kRestoreTitle)) ImGui::OpenPopup(kRestoreTitle);
+    ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    if (!ImGui::BeginPopupModal(kRestoreTitle, nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+    if (offer) {
+        ImGui::Text("Restore the autosaved session from %s (%s)?", offer->written_text().c_str(), offer->mesh.c_str());
+        ImGui::TextDisabled("%s", autosave_.directory().c_str());
+        const bool restore = ImGui::Button("Restore");
+        ImGui::SameLine();
+        const bool discard = ImGui::Button("Discard");
+        if (restore || discard) answer_restore(restore);
+    }
+    if (!autosave_.offer()) ImGui::CloseCurrentPopup();  // answered here or by a script
+    ImGui::EndPopup();
+}
 
 void App::screenshot(const std::string& path, bool ui) { pending_screenshot_ = std::make_pair(path, ui); }
 
@@ -336,8 +390,10 @@ int App::run() {
         // Integrate toward the target within the frame's budget.
         const double ms = std::max(session_->stats().ms_per_step, 0.05);
         session_->update(std::clamp(int(kStepBudgetMs / ms), 1, 250));
+        autosave_.maybe_save(*session_);
 
         draw_panels();
+        draw_restore_offer();
         draw_overlay();
         ImGui::Render();
         draw_scene();
@@ -356,6 +412,8 @@ int App::run() {
         }
         glfwSwapBuffers(window_);
     }
+    // A clean exit: the autosave goes, unless its offer was never answered.
+    if (!autosave_.offer()) autosave_.clear();
     return script_ && script_->failed() ? 1 : 0;
 }
 

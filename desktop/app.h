@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "editor/autosave.h"
 #include "editor/camera.h"
 #include "editor/script.h"
 #include "editor/session.h"
@@ -40,6 +41,9 @@ public:
     void screenshot(const std::string& path, bool ui) override;
     void loaded() override;
     void log(const std::string& line) override;
+    void autosave_now() override;
+    void answer_restore(bool restore) override;
+    void simulate_crash() override;
 
     // Called by GLFW's callbacks.
     void on_drop(const std::string& path);
@@ -53,6 +57,8 @@ private:
     void draw_overlay();
     void draw_gizmo(ImDrawList* draw, float scale);
     void draw_panels();
+    void draw_restore_offer();
+    void offer_restore();
     void save_screenshot(const std::string& path) const;
     editor::Viewport viewport() const;
     void remember(const std::string& path);
@@ -66,6 +72,7 @@ private:
     std::optional<gpu::Texture> cpu_vertices_;
     std::uint64_t drawn_mesh_ = 0, drawn_curve_ = 0, drawn_revision_ = 0;
     std::unique_ptr<editor::ScriptRunner> script_;
+    editor::Autosave autosave_;
 
     // Pointer state: a tool action or a camera drag (orbit / pan).
     enum class Drag { none, tool, orbit, pan } drag_ = Drag::none;

@@ -3,6 +3,8 @@
 //
 // The desktop editor: opens MESH (a mesh file or builtin:NAME) or the scene FILE,
 // or the built-in default scene, and runs the script's actions (docs/desktop.md).
+// A changed session is autosaved; started without a file after a crash, the editor
+// offers to restore it (docs/robustness.md, "Nothing lost").
 
 #include <cstdio>
 #include <cstring>
@@ -16,7 +18,9 @@ void usage(std::FILE* out) {
     std::fputs("usage: vfsd-desktop [--scene FILE] [--script FILE] [--exit-after-script] [--backend auto|cpu]\n"
                "                    [--size WxH] [MESH]\n"
                "Opens MESH (.obj .off .ply .stl .gltf .glb or builtin:NAME), the scene FILE, or the default\n"
-               "scene; F1 in the window lists the shortcuts. docs/desktop.md describes scripts.\n",
+               "scene; F1 in the window lists the shortcuts. docs/desktop.md describes scripts.\n"
+               "The session is autosaved to $VFSD_AUTOSAVE_DIR, else $XDG_STATE_HOME/vfsd/autosave,\n"
+               "else ~/.local/state/vfsd/autosave; a start without a file offers to restore it.\n",
                out);
 }
 

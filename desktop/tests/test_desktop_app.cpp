@@ -3,7 +3,8 @@
 // saves; the export equals `vfsd deform` of the saved scene, and the screenshots
 // show the inner (blue) and outer (red) regions and the curve. A second session
 // places a handle and drags its gizmo: the export changes, undo brings back the
-// undragged result, and the gizmo is on screen.
+// undragged result, and the gizmo is on screen. A session that crashes after an
+// autosave is restored by the next start.
 
 #include <sys/wait.h>
 
@@ -64,11 +65,13 @@ std::string session_script(const Scratch& s, const std::string& tag) {
            "{\"action\": \"screenshot\", \"path\": \"" + p + "-end.png\"}\n";
 }
 
-int run_script(const Scratch& s, const std::string& tag, const std::string& text, const std::string& options) {
+// Runs the app on a script (its text), with the autosave in the scratch folder.
+int run_script(const Scratch& s, const std::string& tag, const std::string& script_text, const std::string& options) {
     const std::string script = s.file(tag + ".jsonl");
-    std::ofstream(script) << text;
+    std::ofstream(script) << script_text;
     // Mesa and GLFW keep some memory to the end: no leak report from a sanitizer build.
-    return run("ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' '" VFSD_DESKTOP_PATH "' --script '" + script +
+    return run("ASAN_OPTIONS=detect_leaks=0 VFSD_AUTOSAVE_DIR='" + s.file("autosave") +
+               "' xvfb-run -a -s '-screen 0 1280x800x24' '" VFSD_DESKTOP_PATH "' --script '" + script +
                "' --exit-after-script " + options + " >'" + s.file(tag + ".log") + "' 2>&1");
 }
 
@@ -173,4 +176,40 @@ TEST_CASE("vfsd-desktop: dragging the handle gizmo changes the result, undo brin
     const double diagonal = bounding_box(placed.positions).diagonal();
     CHECK(max_distance(load_mesh(s.file("dragged.ply")), placed) > 0.1 * diagonal);
     CHECK(max_distance(load_mesh(s.file("undone.ply")), placed) < 1e-6 * diagonal);
+}
+
+TEST_CASE("vfsd-desktop: after a crash the restarted editor restores the autosaved session", "[desktop][autosave]") {
+    Scratch s;
+    const std::string manifest = s.file("autosave/autosave.json");
+    // Edit, write the autosave, then end as a crash would (no clean exit).
+    const std::string edit =
+        "{\"action\": \"wait-frames\", \"n\": 2}\n"
+        "{\"action\": \"paint\", \"tool\": \"inner\", \"radius\": 0.12, \"points\": [[470, 560], [520, 585], [570, 600]]}\n"
+        "{\"action\": \"drag\", \"index\": 3, \"to\": [770, 240]}\n"
+        "{\"action\": \"set-time\", \"t\": 0.8}\n"
+        "{\"action\": \"wait-until-time\", \"t\": 0.8}\n"
+        "{\"action\": \"export\", \"path\": \"" + s.file("before.ply") + "\"}\n"
+        "{\"action\": \"autosave\"}\n"
+        "{\"action\": \"simulate-crash\"}\n";
+    INFO("logs: " << s.file("crash.log") << ", " << s.file("restore.log"));
+    REQUIRE(run_script(s, "crash", edit, "--backend cpu") == 3);
+    REQUIRE(std::filesystem::exists(manifest));
+
+    // Started again without a file: the restore is offered; restored, the session
+    // integrates to the saved target and exports the same shape.
+    const std::string restore =
+        "{\"action\": \"restore-autosave\", \"answer\": \"restore\"}\n"
+        "{\"action\": \"wait-until-time\", \"t\": 0.8}\n"
+        "{\"action\": \"expect\", \"undo_count\": 0}\n"
+        "{\"action\": \"export\", \"path\": \"" + s.file("after.ply") + "\"}\n";
+    REQUIRE(run_script(s, "restore", restore, "--backend cpu") == 0);
+    const TriangleMesh before = load_mesh(s.file("before.ply"));
+    const TriangleMesh after = load_mesh(s.file("after.ply"));
+    CHECK(max_distance(before, after) == 0.0);
+    CHECK(max_distance(before, load_mesh("builtin:box")) > 0.1);  // it was deformed
+    CHECK_FALSE(std::filesystem::exists(manifest));  // the clean exit cleared it
+
+    // With a file on the command line nothing is offered.
+    REQUIRE(run_script(s, "crash2", edit, "--backend cpu") == 3);
+    CHECK(run_script(s, "file", restore, "--backend cpu builtin:box") == 1);
 }
