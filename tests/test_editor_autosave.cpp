@@ -113,7 +113,7 @@ TEST_CASE("Autosave: an edit is written, at most once per interval", "[editor][a
     CHECK_FALSE(autosave.maybe_save(session, t0 + 5s));  // within the interval
     CHECK(autosave.maybe_save(session, t0 + 11s));
     CHECK_FALSE(autosave.maybe_save(session, t0 + 30s));  // nothing new
-    // Saves alternate between the slots; the manifest names the newest.
+    // A save goes to another slot than the last; the manifest names the newest.
     CHECK(autosave.find()->scene != first->scene);
 }
 
@@ -169,6 +169,37 @@ TEST_CASE("Autosave: restore gives the saved session back", "[editor][autosave]"
     drag_last_point(restored, {0.0, 0.0, 0.05});
     REQUIRE(again.maybe_save(restored));
     CHECK(again.find()->mesh == mesh_name);
+}
+
+TEST_CASE("Autosave: a restored session's own mesh file is never written over", "[editor][autosave]") {
+    test::ScratchDir dir;
+    {
+        EditorSession baked;
+        open_box(baked);
+        baked.set_target_time(1.0);
+        run_to_target(baked);
+        baked.apply();
+        REQUIRE(Autosave(dir.path().string()).save(baked));
+    }
+    // Restored, the session's base mesh is the autosave's file; apply again, save
+    // into every slot, undo the apply: the autosave has the restored base again.
+    EditorSession restored;
+    Autosave autosave(dir.path().string());
+    REQUIRE(autosave.restore(restored));
+    const std::vector<Vec3> base = restored.base_positions();
+    restored.set_target_time(1.0);
+    run_to_target(restored);
+    restored.apply();
+    for (int k = 0; k < 3; ++k) {
+        drag_last_point(restored, {0.0, 0.0, 0.05});
+        REQUIRE(autosave.save(restored));
+    }
+    for (int k = 0; k < 4; ++k) REQUIRE(restored.undo());
+    REQUIRE(restored.base_positions() == base);
+    REQUIRE(autosave.save(restored));
+    EditorSession again;
+    REQUIRE(Autosave(dir.path().string()).restore(again));
+    CHECK(again.base_positions() == base);
 }
 
 TEST_CASE("Autosave: a corrupt or truncated autosave is reported and ignored", "[editor][autosave]") {
@@ -248,7 +279,7 @@ TEST_CASE("Autosave: clear removes it and nothing else", "[editor][autosave]") {
     Autosave autosave(dir.path().string());
     REQUIRE(autosave.save(session));
     drag_last_point(session, {0.0, 0.0, 0.1});
-    REQUIRE(autosave.save(session));  // both slots in use
+    REQUIRE(autosave.save(session));  // two slots in use
     REQUIRE(has_slot_files(dir));
     autosave.clear();
     CHECK_FALSE(autosave.find());

@@ -15,7 +15,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr const char* kManifest = "autosave.json";
-constexpr const char* kSlots[] = {"session-a", "session-b"};
+// Three slots: one committed, one holding a restored session's own mesh file,
+// one free to write.
+constexpr const char* kSlots[] = {"session-a", "session-b", "session-c"};
 
 std::string environment(const char* name) {
     const char* value = std::getenv(name);
@@ -28,10 +30,18 @@ bool is_slot_scene(const std::string& name) {
     return false;
 }
 
+bool is_slot_file(const std::string& name, const std::string& slot) { return name.rfind(slot + ".", 0) == 0; }
+
 bool is_slot_file(const std::string& name) {
     for (const char* slot : kSlots)
-        if (name.rfind(std::string(slot) + ".", 0) == 0) return true;
+        if (is_slot_file(name, slot)) return true;
     return false;
+}
+
+// `path` is a file of `slot` in `folder`.
+bool in_slot(const fs::path& path, const std::string& folder, const std::string& slot) {
+    std::error_code ec;
+    return is_slot_file(path.filename().string(), slot) && fs::equivalent(path.parent_path(), folder, ec);
 }
 
 // The manifest's fields, checked: the scene must be one of the two slots.
@@ -56,6 +66,17 @@ std::optional<std::string> committed_scene(const std::string& manifest) {
     } catch (const std::exception&) {
         return std::nullopt;
     }
+}
+
+// The slot to write: not the committed one, which stays whole until the manifest
+// names the new one, and not the one holding the session's own mesh file.
+std::string free_slot(const std::string& folder, const std::string& mesh) {
+    const std::optional<std::string> committed = committed_scene((fs::path(folder) / kManifest).string());
+    for (const char* slot : kSlots) {
+        const bool is_committed = committed && fs::path(*committed).filename() == std::string(slot) + ".json";
+        if (!is_committed && !in_slot(mesh, folder, slot)) return slot;
+    }
+    throw std::logic_error("autosave: no free slot");
 }
 
 // The scene must parse and its mesh must be there.
@@ -100,9 +121,7 @@ bool Autosave::maybe_save(EditorSession& session, Clock::time_point now) {
 bool Autosave::save(EditorSession& session) {
     try {
         fs::create_directories(directory_);
-        // The slot the manifest does not name: the committed autosave stays whole.
-        const bool a_committed = committed_scene(file(kManifest)) == file(std::string(kSlots[0]) + ".json");
-        const std::string scene = std::string(kSlots[a_committed ? 1 : 0]) + ".json";
+        const std::string scene = free_slot(directory_, session.mesh_name()) + ".json";
         session.save_scene(file(scene), InputMesh::copied);
         // A restored session edits the autosave's copy: the user's name stays.
         const bool restored = restored_mesh_ && restored_mesh_->second == session.mesh_revision();

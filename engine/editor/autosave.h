@@ -5,7 +5,8 @@
 // The folder holds the session as a scene (EditorSession::save_scene with the
 // input mesh copied beside it, and the base mesh after an apply) and a manifest,
 // autosave.json, naming the scene, the mesh the user was editing and when it was
-// written. Saves alternate between two slots (session-a.*, session-b.*) and the
+// written. Saves go to a slot (session-a.*, -b.*, -c.*) other than the one the
+// manifest names and the one holding a restored session's own mesh file, and the
 // manifest is written last, so a save that dies half-way leaves the previous one
 // restorable: the manifest's atomic rename is the commit.
 
