@@ -10,6 +10,10 @@
 // vfsd_pointer, vfsd_wheel and vfsd_array (positions or s for the tests). Each
 // frame ends by handing the page the overlay (control points, loops, the brush)
 // to draw on the 2D canvas above the WebGL one.
+//
+// The autosave (editor/autosave.h) lives in /autosave, an IDBFS folder the page
+// loads from IndexedDB before the editor starts and writes back after each
+// autosave, so a reloaded page offers to restore the session.
 
 #include <emscripten.h>
 #include <emscripten/html5.h>
@@ -27,6 +31,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/error.h"
+#include "editor/autosave.h"
 #include "editor/camera.h"
 #include "editor/gpu_live_deformation.h"
 #include "editor/handle_gizmo.h"
@@ -55,6 +60,27 @@ EM_JS(void, vfsd_page_frame, (const char* overlay), {
 EM_JS(void, vfsd_page_context, (int lost), {
     if (Module.vfsdContext) Module.vfsdContext(lost != 0);
 });
+// The autosave folder changed: the page writes it to IndexedDB.
+EM_JS(void, vfsd_page_autosaved, (), {
+    if (Module.vfsdAutosaved) Module.vfsdAutosaved();
+});
+// Mounts the autosave folder, loads it from IndexedDB, then starts the editor
+// (vfsd_start); without IndexedDB the editor starts with an empty folder.
+EM_JS(void, vfsd_page_load_autosave, (const char* folder), {
+    const dir = UTF8ToString(folder);
+    const start = () => Module.ccall('vfsd_start', null, [], []);
+    try {
+        FS.mkdir(dir);
+        FS.mount(IDBFS, {}, dir);
+        FS.syncfs(true, (err) => {
+            if (err) console.warn('vfsd: the autosave could not be read from IndexedDB: ' + err);
+            start();
+        });
+    } catch (e) {
+        console.warn('vfsd: no autosave storage: ' + e);
+        start();
+    }
+});
 
 namespace vfsd::web {
 namespace {
@@ -64,6 +90,9 @@ using nlohmann::json;
 constexpr const char* kCanvas = "#vfsd-canvas";
 constexpr const char* kDefaultScene = "/scenes/default.json";
 constexpr const char* kFiles = "/files";  // uploaded meshes and scenes, exports
+constexpr const char* kAutosave = "/autosave";  // IDBFS, kept in IndexedDB
+// A changed session is autosaved at most this often.
+constexpr double kAutosaveSeconds = 5.0;
 // Per frame the deformation may take about this long, so the page stays responsive.
 constexpr double kStepBudgetMs = 15.0;
 
@@ -133,6 +162,8 @@ public:
     void screenshot(const std::string&, bool) override { log("script: screenshots are the page's (canvas)"); }
     void loaded() override;
     void log(const std::string& line) override { std::printf("%s\n", line.c_str()); }
+    void autosave_now() override;
+    void answer_restore(bool restore) override;
 
     void context_lost();
     void context_restored();
@@ -145,6 +176,7 @@ private:
     void set(const json& c);
     void action(const std::string& name);
     json state() const;
+    json autosave_state() const;
     json overlay() const;
 
     EMSCRIPTEN_WEBGL_CONTEXT_HANDLE gl_ = 0;
@@ -160,6 +192,7 @@ private:
     editor::Camera camera_;
     editor::SessionView view_;
     std::unique_ptr<editor::ScriptRunner> script_;
+    editor::Autosave autosave_{kAutosave, kAutosaveSeconds};
     bool force_cpu_ = false;
     double ms_per_step_ = 0.0;  // wall time per step of the last update(), read-back included
     int region_gesture_ = 0, curve_gesture_ = 0;  // slider drags open one undo step
@@ -185,6 +218,23 @@ App::App(const json& options) {
     }
     tools_.adapt_to(*session_);
     loaded();
+    autosave_.mark_saved(*session_);
+    autosave_.offer_restore(*session_);
+}
+
+void App::autosave_now() {
+    if (autosave_.offer()) throw InputError("answer the offer to restore the autosave first");
+    if (!autosave_.save(*session_)) throw IoError(session_->warnings().back());
+    vfsd_page_autosaved();
+}
+
+void App::answer_restore(bool restore) {
+    if (autosave_.answer(*session_, restore)) {
+        tools_.adapt_to(*session_);
+        loaded();
+    }
+    if (!restore) vfsd_page_autosaved();  // the cleared folder, to IndexedDB
+    status_ = !restore ? "discarded the autosave" : autosave_.problem().empty() ? "restored the autosave" : "";
 }
 
 void App::init_gl() {
@@ -389,7 +439,15 @@ json App::state() const {
             {"loops", {tools_.loops().size(), tools_.loop_in_progress().size()}},
             {"context_lost", lost_},
             {"force_cpu", force_cpu_},
+            {"autosave", autosave_state()},
             {"script", script_ ? json{{"done", script_->done()}, {"error", script_->error()}} : json()}};
+}
+
+json App::autosave_state() const {
+    json offer;
+    if (const auto& o = autosave_.offer())
+        offer = {{"written", o->written_text()}, {"mesh", std::filesystem::path(o->mesh).filename().string()}};
+    return {{"offer", offer}, {"behind", autosave_.behind(*session_)}};
 }
 
 json App::overlay() const {
@@ -507,6 +565,14 @@ json App::command(const json& c) {
         script_ = std::make_unique<editor::ScriptRunner>(editor::parse_script(c.at("actions").dump(), "script"));
         return state();
     }
+    if (cmd == "autosave") {
+        // {"answer": "restore" | "discard"} answers the offer; without it, saves now.
+        const std::string answer = c.value("answer", std::string());
+        if (answer.empty()) autosave_now();
+        else if (answer == "restore" || answer == "discard") answer_restore(answer == "restore");
+        else throw InputError("autosave: answer must be restore or discard");
+        return state();
+    }
     if (cmd == "context") {
         // Test hook: what the page's context-loss handlers call.
         c.value("lost", false) ? context_lost() : context_restored();
@@ -539,6 +605,7 @@ void App::frame() {
         const double start = emscripten_get_now();
         const int taken = session_->update(budget);
         if (taken > 0) ms_per_step_ = (emscripten_get_now() - start) / taken;
+        if (autosave_.maybe_save(*session_)) vfsd_page_autosaved();
         view_.draw(*session_, camera_, viewport());
     } catch (const std::exception& e) {
         status_ = e.what();
@@ -606,9 +673,8 @@ EMSCRIPTEN_KEEPALIVE const double* vfsd_array(int which) {
 
 EMSCRIPTEN_KEEPALIVE int vfsd_array_size() { return app ? int(app->array_data().size()) : 0; }
 
-}  // extern "C"
-
-int main() {
+// Starts the editor once the autosave folder is loaded (vfsd_page_load_autosave).
+EMSCRIPTEN_KEEPALIVE void vfsd_start() {
     char* text = vfsd_page_options();
     const nlohmann::json options = nlohmann::json::parse(text, nullptr, false);
     std::free(text);
@@ -616,7 +682,7 @@ int main() {
         app = std::make_unique<vfsd::web::App>(options.is_object() ? options : nlohmann::json::object());
     } catch (const std::exception& e) {
         EM_ASM({ if (Module.vfsdFailed) Module.vfsdFailed(UTF8ToString($0)); }, e.what());
-        return 1;
+        return;
     }
     emscripten_set_webglcontextlost_callback(
         "#vfsd-canvas", nullptr, true, [](int, const void*, void*) -> EM_BOOL {
@@ -629,5 +695,11 @@ int main() {
             return EM_TRUE;
         });
     emscripten_set_main_loop([] { app->frame(); }, 0, false);
+}
+
+}  // extern "C"
+
+int main() {
+    vfsd_page_load_autosave(vfsd::web::kAutosave);
     return 0;
 }

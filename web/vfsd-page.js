@@ -57,6 +57,7 @@
     print: (text) => console.log(text),
     printErr: (text) => console.warn(text),
     vfsdFrame: onFrame,
+    vfsdAutosaved: () => autosaveStore.write(),
     vfsdContext: (lost) => {
       $('status').textContent = lost ? 'WebGL context lost: waiting for it to come back…'
                                      : 'WebGL context restored; the deformation is recomputed';
@@ -68,6 +69,30 @@
     onAbort: (what) => {
       $('loading').hidden = false;
       $('loading').textContent = 'The engine stopped: ' + what;
+    },
+  };
+
+  // ---- the autosave: /autosave (IDBFS) written to IndexedDB after each autosave --
+
+  const autosaveStore = {
+    writes: 0,    // asked for by the engine
+    written: 0,   // writes that reached IndexedDB
+    syncing: false,
+    error: '',
+    write() {
+      this.writes++;
+      if (!this.syncing) this.sync();
+    },
+    sync() {
+      this.syncing = true;
+      const target = this.writes;
+      Module.FS.syncfs(false, (err) => {
+        this.syncing = false;
+        this.error = err ? String(err) : '';
+        if (err) console.warn('vfsd: the autosave could not be written to IndexedDB: ' + err);
+        else this.written = target;
+        if (this.writes > target) this.sync();
+      });
     },
   };
 
@@ -204,6 +229,7 @@
     $('tool-message').textContent = s.message + (s.tool === 'loops' ? ` (loops: ${s.loops[0]} closed, ${s.loops[1]} points)` : '');
     if (s.load_error) showError(s.load_error);
     if (s.status) $('status').textContent = s.status;
+    showRestoreOffer(s.autosave.offer);
     const warnings = $('warnings');
     const text = s.warnings.join('\n');
     if (warnings.dataset.text !== text) {
@@ -212,7 +238,16 @@
     }
   }
 
+  function showRestoreOffer(offer) {
+    const box = $('restore-offer');
+    box.hidden = !offer;
+    if (offer) $('restore-text').textContent = `Restore the autosaved session from ${offer.written} (${offer.mesh})?`;
+  }
+
   // ---- controls ------------------------------------------------------------------
+
+  $('restore-autosave').addEventListener('click', () => run({ cmd: 'autosave', answer: 'restore' }));
+  $('discard-autosave').addEventListener('click', () => run({ cmd: 'autosave', answer: 'discard' }));
 
   for (const r of document.querySelectorAll('input[name=tool]'))
     r.addEventListener('change', () => run({ cmd: 'set', tool: r.value }));
@@ -477,6 +512,13 @@
       if (s.script.error) throw new Error(s.script.error);
     },
     frames: (n) => waitFor(() => --n <= 0),
+    // The autosave: `behind` while the session has changes it does not hold yet,
+    // `stored` once every autosave reached IndexedDB.
+    autosave: () => {
+      const s = command({ cmd: 'state' }).autosave;
+      return { offer: s.offer, behind: s.behind, stored: autosaveStore.written === autosaveStore.writes && !autosaveStore.syncing,
+               writes: autosaveStore.writes, error: autosaveStore.error };
+    },
   };
   window.vfsd = api;
 })();
