@@ -231,10 +231,12 @@
     if (s.status) $('status').textContent = s.status;
     showRestoreOffer(s.autosave.offer);
     const warnings = $('warnings');
-    const text = s.warnings.join('\n');
+    const list = autosaveStore.error ? [...s.warnings, 'autosave: not written to IndexedDB: ' + autosaveStore.error]
+                                     : s.warnings;
+    const text = list.join('\n');
     if (warnings.dataset.text !== text) {
       warnings.dataset.text = text;
-      warnings.replaceChildren(...s.warnings.map((w) => Object.assign(document.createElement('li'), { textContent: w })));
+      warnings.replaceChildren(...list.map((w) => Object.assign(document.createElement('li'), { textContent: w })));
     }
   }
 
