@@ -177,10 +177,10 @@ void Autosave::offer_restore(EditorSession& session) {
     if (!problem_.empty()) session.set_autosave_warning(problem_);
 }
 
-bool Autosave::answer(EditorSession& session, bool restore) {
+bool Autosave::answer(EditorSession& session, bool accepted) {
     if (!offer_) throw InputError("no autosave was offered");
     offer_.reset();
-    if (restore) return this->restore(session);
+    if (accepted) return restore(session);
     clear();
     mark_saved(session);
     return false;

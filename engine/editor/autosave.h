@@ -61,9 +61,10 @@ public:
     // session's warning instead). The offer stands until answered.
     void offer_restore(EditorSession& session);
     const std::optional<AutosaveInfo>& offer() const { return offer_; }
-    // The user's answer to the offer: restore it (as restore()) or discard it
-    // (clear()). True when `session` now holds it; InputError without an offer.
-    bool answer(EditorSession& session, bool restore);
+    // The user's answer to the offer: accepted, restore it (as restore());
+    // declined, clear() it. True when `session` now holds it; InputError without
+    // an offer.
+    bool answer(EditorSession& session, bool accepted);
     // The session has changes the autosave does not hold yet.
     bool behind(const EditorSession& session) const { return session.document_revision() != saved_revision_; }
 
