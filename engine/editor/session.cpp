@@ -1,6 +1,7 @@
 #include "editor/session.h"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 
 #include "base/error.h"
@@ -82,6 +83,13 @@ Scene with_curve(Scene scene, const CurveSettings& c) {
 }
 
 bool is_builtin(const std::string& mesh) { return mesh.rfind("builtin:", 0) == 0; }
+
+// A copy of the file alone holds the whole mesh (a .gltf's buffers may be other files).
+bool copyable(const std::string& mesh) {
+    std::string ext = std::filesystem::path(mesh).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext != ".gltf";
+}
 
 // `copy` holds the bytes of `source` already: the same file, or a copy written
 // after the source's last change.
@@ -199,7 +207,7 @@ void EditorSession::save_scene(const std::string& path, InputMesh input) const {
         options.write_scalar = false;
         write_mesh_file((dir / name).string(), doc_.file.mesh, options);
         scene.mesh = name;
-    } else if (!is_builtin(scene.mesh) && input == InputMesh::copied) {
+    } else if (!is_builtin(scene.mesh) && input == InputMesh::copied && copyable(scene.mesh)) {
         scene.mesh = copy_beside(scene.mesh, path);
     } else if (!is_builtin(scene.mesh)) {
         scene.mesh = fs::proximate(fs::absolute(scene.mesh), dir).string();

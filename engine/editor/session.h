@@ -36,6 +36,7 @@ enum class BrushTool { paint_inner, paint_outer, erase, paint_s };
 // How save_scene refers to an input mesh file (not builtin:, not applied): by a
 // path relative to the scene, or by a copy of the file beside the scene
 // (NAME.input.EXT), so that the scene's folder holds all it needs (the autosave).
+// A .gltf, whose buffers may be files beside it, is always referenced.
 enum class InputMesh { referenced, copied };
 
 struct BrushSettings {
