@@ -3,6 +3,7 @@
 // their target pose, and integrating back undoes the deformation.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -185,6 +186,33 @@ TEST_CASE("the rigid fit recovers a known motion", "[deform][math]") {
     CHECK(std::abs(rotation_angle(fit.rotation) - 2.5) < 1e-12);
 }
 
+namespace {
+
+// How far deformation_step's result `stepped` lies from classical RK4 of each
+// vertex along velocity_of(v) (a function of (sample, x)), and how far RK4 moved.
+struct StepCheck {
+    double worst = 0.0, moved = 0.0;
+};
+template <class VelocityOf>
+StepCheck compare_with_classical_rk4(const StepMotion& m, const std::vector<Vec3>& start,
+                                     const std::vector<Vec3>& stepped, const VelocityOf& velocity_of) {
+    StepCheck check;
+    for (std::size_t v = 0; v < start.size(); ++v) {
+        const auto velocity = velocity_of(v);
+        const Vec3 x = start[v];
+        const Vec3 k1 = velocity(m.start, x);
+        const Vec3 k2 = velocity(m.middle, x + 0.5 * m.h * k1);
+        const Vec3 k3 = velocity(m.middle, x + 0.5 * m.h * k2);
+        const Vec3 k4 = velocity(m.end, x + m.h * k3);
+        const Vec3 expected = x + (m.h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        check.worst = std::max(check.worst, glm::length(stepped[v] - expected));
+        check.moved = std::max(check.moved, glm::length(expected - x));
+    }
+    return check;
+}
+
+}  // namespace
+
 TEST_CASE("the inner region's affine RK4 step equals RK4 of each inner vertex", "[deform]") {
     // deformation_step maps inner vertices (s = 0) by one affine map found from
     // four points; classical RK4 of the rigid field per vertex must agree.
@@ -198,19 +226,38 @@ TEST_CASE("the inner region's affine RK4 step equals RK4 of each inner vertex", 
     const std::vector<Vec3> gradients(scene.mesh.vertex_count(), Vec3(0.0));
     std::vector<Vec3> stepped(scene.mesh.vertex_count(), Vec3(0.0));
     deformation_step(m, all_inner, parts, gradients, scene.mesh.positions, stepped);
-    double worst = 0.0, moved = 0.0;
-    for (std::size_t v = 0; v < stepped.size(); ++v) {
+    const StepCheck check = compare_with_classical_rk4(m, scene.mesh.positions, stepped, [](std::size_t) {
+        return [](const MotionSample& sample, const Vec3& x) { return inner_velocity(sample, x); };
+    });
+    CHECK(check.moved > 1e-3);
+    CHECK(check.worst < 1e-13);
+}
+
+TEST_CASE("the blend region's lane-wise RK4 step equals RK4 of each blend vertex", "[deform]") {
+    // deformation_step evaluates the field over blocks of lanes; classical RK4
+    // of deformation_velocity per vertex, with r = s and ∇r fixed, must agree.
+    const BoxScene scene;
+    const std::size_t n = scene.mesh.vertex_count();
+    std::vector<double> s(n);
+    std::vector<Vec3> gradients(n);
+    for (std::size_t v = 0; v < n; ++v) {  // all blend, with some gradient
         const Vec3 x = scene.mesh.positions[v];
-        const Vec3 k1 = inner_velocity(m.start, x);
-        const Vec3 k2 = inner_velocity(m.middle, x + 0.5 * m.h * k1);
-        const Vec3 k3 = inner_velocity(m.middle, x + 0.5 * m.h * k2);
-        const Vec3 k4 = inner_velocity(m.end, x + m.h * k3);
-        const Vec3 expected = x + (m.h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-        worst = std::max(worst, glm::length(stepped[v] - expected));
-        moved = std::max(moved, glm::length(expected - x));
+        s[v] = 0.05 + 0.9 * (0.5 + 0.4 * std::sin(3.0 * x.x + 2.0 * x.y + x.z));
+        gradients[v] = Vec3(std::cos(x.y), 0.5 * x.z, -0.3);
     }
-    CHECK(moved > 1e-3);
-    CHECK(worst < 1e-13);
+    const RegionParts parts = RegionParts::of(s, build_vertex_rings(scene.mesh));
+    REQUIRE(parts.blend.size() == n);
+    const InnerMotion motion = InnerMotion::along_curve(bend_curve(), InnerMotionMode::Rotation, 0.0, 2.0);
+    const StepMotion m = StepMotion::sample(motion, 0.37, 0.05);
+    std::vector<Vec3> stepped(n, Vec3(0.0));
+    deformation_step(m, s, parts, gradients, scene.mesh.positions, stepped);
+    const StepCheck check = compare_with_classical_rk4(m, scene.mesh.positions, stepped, [&](std::size_t v) {
+        const double b = bernstein_blend(s[v]);
+        const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
+        return [=](const MotionSample& sample, const Vec3& x) { return deformation_velocity(sample, x, b, grad_b); };
+    });
+    CHECK(check.moved > 1e-3);
+    CHECK(check.worst < 1e-13);
 }
 
 TEST_CASE("region parts list each blend vertex's blend neighbours", "[deform]") {
@@ -218,6 +265,9 @@ TEST_CASE("region parts list each blend vertex's blend neighbours", "[deform]") 
     const VertexRings rings = build_vertex_rings(scene.mesh);
     const RegionParts parts = RegionParts::of(scene.s, rings);
     REQUIRE(parts.blend_ring_offsets.size() == parts.blend.size() + 1);
+    std::vector<std::uint32_t> sorted = parts.blend;  // every blend vertex once, in any order
+    std::sort(sorted.begin(), sorted.end());
+    CHECK(sorted == blend_vertices(scene.s));
     std::size_t inner = 0;
     for (const double s : scene.s) inner += s <= 0.0;
     CHECK(parts.inner.size() == inner);

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "curve/inner_motion.h"
+#include "field/field_lanes.h"
 #include "field/vector_field.h"
 
 using namespace vfsd;
@@ -131,4 +132,32 @@ TEST_CASE("the rotation mode degrades smoothly to translation on straight pieces
     for (int i = 0; i <= 1000; ++i) largest = std::max(largest, glm::length(rotation.at(0.5 + i / 2000.0).angular_velocity));
     CHECK(std::isfinite(largest));
     CHECK(largest < 100.0);
+}
+
+TEST_CASE("the lane-wise field equals the reference field point by point", "[field]") {
+    // deformation_velocities (the deformation pass's vectorised loop) against
+    // deformation_velocity, with a twist plane off c and a partial last block.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> coord(-2.0, 2.0), unit(0.0, 1.0);
+    for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation}) {
+        const InnerMotion motion = curved_motion(mode, 1.5);
+        for (double t : {0.2, 0.6, 0.75, 0.95}) {
+            const MotionSample m = motion.at(t);
+            const int n = kFieldLanes - 3;
+            Lanes3 at, grad_b, out;
+            double one_minus_b[kFieldLanes] = {};
+            for (int j = 0; j < n; ++j) {
+                at.x[j] = coord(rng), at.y[j] = coord(rng), at.z[j] = coord(rng);
+                grad_b.x[j] = coord(rng), grad_b.y[j] = coord(rng), grad_b.z[j] = coord(rng);
+                one_minus_b[j] = unit(rng);
+            }
+            deformation_velocities(PreparedMotion(m), n, one_minus_b, grad_b, at, out);
+            for (int j = 0; j < n; ++j) {
+                const Vec3 expected = deformation_velocity(m, Vec3(at.x[j], at.y[j], at.z[j]), 1.0 - one_minus_b[j],
+                                                           Vec3(grad_b.x[j], grad_b.y[j], grad_b.z[j]));
+                const Vec3 got(out.x[j], out.y[j], out.z[j]);
+                CHECK(glm::length(got - expected) <= 1e-12 * std::max(1.0, glm::length(expected)));
+            }
+        }
+    }
 }

@@ -1,11 +1,13 @@
 #include "deform/passes.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
 #include "base/parallel.h"
+#include "field/field_lanes.h"
 #include "field/vector_field.h"
 #include "mesh/geometry.h"
 
@@ -46,6 +48,71 @@ void for_each_vertex(const std::vector<std::uint32_t>& vertices, const Body& bod
     parallel_for(vertices.size(), [&](std::size_t first, std::size_t last) {
         for (std::size_t i = first; i < last; ++i) body(vertices[i]);
     });
+}
+
+// Calls body(first, count) for consecutive blocks of at most kFieldLanes of the
+// indices [0, n), on all threads.
+template <class Body>
+void for_each_block(std::size_t n, const Body& body) {
+    parallel_for(n, [&](std::size_t first, std::size_t last) {
+        for (std::size_t begin = first; begin < last; begin += kFieldLanes)
+            body(begin, static_cast<int>(std::min<std::size_t>(kFieldLanes, last - begin)));
+    });
+}
+
+// The blend vertices blend[first .. first + count) as field lanes: position,
+// 1 − b(s) and ∇b = b′(s) ∇r (eq. 4 with r_i = 0, r_o = 1, r = s).
+struct BlendLanes {
+    Lanes3 position, grad_b;
+    double one_minus_b[kFieldLanes];
+
+    void gather(const std::vector<std::uint32_t>& blend, std::size_t first, int count, const std::vector<double>& s,
+                const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions) {
+        for (int j = 0; j < count; ++j) {
+            const std::uint32_t v = blend[first + j];
+            const Vec3 g = bernstein_blend_derivative(s[v]) * gradients[v];
+            position.x[j] = positions[v].x, position.y[j] = positions[v].y, position.z[j] = positions[v].z;
+            grad_b.x[j] = g.x, grad_b.y[j] = g.y, grad_b.z[j] = g.z;
+            one_minus_b[j] = 1.0 - bernstein_blend(s[v]);
+        }
+        for (int j = count; j < kFieldLanes; ++j)  // unused lanes, defined all the same
+            position.x[j] = position.y[j] = position.z[j] = grad_b.x[j] = grad_b.y[j] = grad_b.z[j] = one_minus_b[j] = 0.0;
+    }
+};
+
+// to = from + scale · k on the first count lanes.
+void add_scaled(int count, const Lanes3& from, double scale, const Lanes3& k, Lanes3& to) {
+    for (int j = 0; j < count; ++j) {
+        to.x[j] = from.x[j] + scale * k.x[j];
+        to.y[j] = from.y[j] + scale * k.y[j];
+        to.z[j] = from.z[j] + scale * k.z[j];
+    }
+}
+
+// Writes lane j to positions[blend[first + j]].
+void scatter(const Lanes3& lanes, const std::vector<std::uint32_t>& blend, std::size_t first, int count,
+             std::vector<Vec3>& positions) {
+    for (int j = 0; j < count; ++j) positions[blend[first + j]] = Vec3(lanes.x[j], lanes.y[j], lanes.z[j]);
+}
+
+// rk4() above for a block of blend lanes, the field evaluated lane-wise; the
+// sum k1 + 2 k2 + 2 k3 + k4 is formed in the same order.
+void rk4_lanes(const StepMotion& motion, const PreparedMotion (&m)[3], const BlendLanes& in, int count,
+               Lanes3& out) {
+    const double h = motion.h;
+    Lanes3 k, x, sum;
+    deformation_velocities(m[0], count, in.one_minus_b, in.grad_b, in.position, k);  // k1
+    add_scaled(count, k, 0.0, k, sum);
+    add_scaled(count, in.position, 0.5 * h, k, x);
+    deformation_velocities(m[1], count, in.one_minus_b, in.grad_b, x, k);  // k2
+    add_scaled(count, sum, 2.0, k, sum);
+    add_scaled(count, in.position, 0.5 * h, k, x);
+    deformation_velocities(m[1], count, in.one_minus_b, in.grad_b, x, k);  // k3
+    add_scaled(count, sum, 2.0, k, sum);
+    add_scaled(count, in.position, h, k, x);
+    deformation_velocities(m[2], count, in.one_minus_b, in.grad_b, x, k);  // k4
+    add_scaled(count, sum, 1.0, k, sum);
+    add_scaled(count, in.position, h / 6.0, sum, out);
 }
 
 bool in_blend(double s) { return s > 0.0 && s < 1.0; }
@@ -147,7 +214,7 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
                 if (end > begin) {
                     Float4 sum{};
                     for (std::uint32_t k = begin; k < end; ++k) sum += scratch.gradients[parts.blend_rings[k]];
-                    g += w * (sum / float(end - begin) - g);
+                    g += (w / float(end - begin)) * sum - w * g;
                 }
                 const Float4 normal = scratch.normals[i];
                 const Float4 product = g * normal;
@@ -169,9 +236,14 @@ void predict_midpoints(const MotionSample& start, double h, const std::vector<do
     for_each_vertex(parts.inner, [&](std::uint32_t v) {
         midpoints[v] = positions[v] + 0.5 * h * inner_velocity(start, positions[v]);
     });
-    for_each_vertex(parts.blend, [&](std::uint32_t v) {
-        const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
-        midpoints[v] = positions[v] + 0.5 * h * deformation_velocity(start, positions[v], bernstein_blend(s[v]), grad_b);
+    const PreparedMotion m(start);
+    for_each_block(parts.blend.size(), [&](std::size_t first, int count) {
+        BlendLanes lanes;
+        Lanes3 velocity, midpoint;
+        lanes.gather(parts.blend, first, count, s, gradients, positions);
+        deformation_velocities(m, count, lanes.one_minus_b, lanes.grad_b, lanes.position, velocity);
+        add_scaled(count, lanes.position, 0.5 * h, velocity, midpoint);
+        scatter(midpoint, parts.blend, first, count, midpoints);
     });
 }
 
@@ -183,13 +255,15 @@ void deformation_step(const StepMotion& motion, const std::vector<double>& s, co
                       const std::vector<Vec3>& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to) {
     const AffineStep rigid = rigid_rk4_step(motion);
     for_each_vertex(parts.inner, [&](std::uint32_t v) { to[v] = rigid(from[v]); });
-    for_each_vertex(parts.blend, [&](std::uint32_t v) {
-        // r = s and ∇r fixed over the step; ∇b = b'(s) ∇r (eq. 4 with r_i = 0, r_o = 1).
-        const double b = bernstein_blend(s[v]);
-        const Vec3 grad_b = bernstein_blend_derivative(s[v]) * gradients[v];
-        to[v] = rk4(motion, from[v], [&](const Vec3& x, const MotionSample& m) {
-            return deformation_velocity(m, x, b, grad_b);
-        });
+    // r = s and ∇r fixed over the step.
+    const PreparedMotion m[3] = {PreparedMotion(motion.start), PreparedMotion(motion.middle),
+                                 PreparedMotion(motion.end)};
+    for_each_block(parts.blend.size(), [&](std::size_t first, int count) {
+        BlendLanes lanes;
+        Lanes3 next;
+        lanes.gather(parts.blend, first, count, s, gradients, from);
+        rk4_lanes(motion, m, lanes, count, next);
+        scatter(next, parts.blend, first, count, to);
     });
 }
 
