@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -16,8 +17,29 @@ constexpr bool kThreads = false;
 constexpr bool kThreads = true;
 #endif
 
+// Spins for up to `budget` on `ready` before giving up. A deformation step is
+// a dozen parallel_for calls microseconds apart (one per pass and smoothing
+// step): waking a sleeping thread through the kernel takes about as long as a
+// small pass, so both sides spin briefly first and sleep only when idle.
+template <class Ready>
+bool spin_until(const Ready& ready, std::chrono::microseconds budget) {
+    const auto deadline = std::chrono::steady_clock::now() + budget;
+    for (;;) {
+        for (int i = 0; i < 64; ++i) {
+            if (ready()) return true;
+#if defined(__x86_64__) || defined(__i386__)
+            __builtin_ia32_pause();
+#endif
+        }
+        if (std::chrono::steady_clock::now() > deadline) return ready();
+    }
+}
+
+constexpr std::chrono::microseconds kSpin{200};
+
 // Workers wait for a generation number to change, run their chunk of the
 // current job, and count down; the caller waits for the count to reach zero.
+// Both wait by spinning first (spin_until), then on a condition variable.
 class Pool {
 public:
     explicit Pool(unsigned workers) {
@@ -27,7 +49,7 @@ public:
         {
             std::lock_guard<std::mutex> lock(mutex_);
             stop_ = true;
-            ++generation_;
+            generation_.fetch_add(1, std::memory_order_release);
         }
         wake_.notify_all();
         for (std::thread& t : threads_) t.join();
@@ -40,13 +62,15 @@ public:
             std::lock_guard<std::mutex> lock(mutex_);
             body_ = &body;
             n_ = n;
-            pending_ = threads_.size();
-            ++generation_;
+            pending_.store(threads_.size(), std::memory_order_relaxed);
+            generation_.fetch_add(1, std::memory_order_release);
         }
         wake_.notify_all();
         run_chunk(0, n, body);
+        const auto done = [this] { return pending_.load(std::memory_order_acquire) == 0; };
+        if (spin_until(done, kSpin)) return;
         std::unique_lock<std::mutex> lock(mutex_);
-        done_.wait(lock, [this] { return pending_ == 0; });
+        done_.wait(lock, done);
     }
 
 private:
@@ -57,17 +81,26 @@ private:
 
     void work(unsigned index) {
         unsigned long seen = 0;
+        const auto new_job = [&] { return generation_.load(std::memory_order_acquire) != seen; };
         for (;;) {
-            std::unique_lock<std::mutex> lock(mutex_);
-            wake_.wait(lock, [&] { return generation_ != seen; });
-            seen = generation_;
-            if (stop_) return;
-            const auto* body = body_;
-            const std::size_t n = n_;
-            lock.unlock();
+            if (!spin_until(new_job, kSpin)) {
+                std::unique_lock<std::mutex> lock(mutex_);
+                wake_.wait(lock, new_job);
+            }
+            const std::function<void(std::size_t, std::size_t)>* body;
+            std::size_t n;
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                seen = generation_.load(std::memory_order_relaxed);
+                if (stop_) return;
+                body = body_;
+                n = n_;
+            }
             run_chunk(index, n, *body);
-            lock.lock();
-            if (--pending_ == 0) done_.notify_one();
+            if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+                std::lock_guard<std::mutex> lock(mutex_);  // the caller may be between its check and its wait
+                done_.notify_one();
+            }
         }
     }
 
@@ -75,8 +108,9 @@ private:
     std::mutex mutex_, call_mutex_;
     std::condition_variable wake_, done_;
     const std::function<void(std::size_t, std::size_t)>* body_ = nullptr;
-    std::size_t n_ = 0, pending_ = 0;
-    unsigned long generation_ = 0;
+    std::size_t n_ = 0;
+    std::atomic<std::size_t> pending_{0};
+    std::atomic<unsigned long> generation_{0};
     bool stop_ = false;
 };
 
