@@ -260,6 +260,40 @@ TEST_CASE("the blend region's lane-wise RK4 step equals RK4 of each blend vertex
     CHECK(check.worst < 1e-13);
 }
 
+TEST_CASE("the deformation does not depend on the input's vertex order", "[deform]") {
+    // The steps run in a breadth-first order of their own (mesh/vertex_order.h);
+    // the same box with its vertices shuffled must deform to the same shape,
+    // handed back in each input's own order.
+    const BoxScene scene;
+    const std::size_t n = scene.mesh.vertex_count();
+    std::vector<std::uint32_t> shuffle(n);
+    for (std::uint32_t v = 0; v < n; ++v) shuffle[v] = v;
+    std::shuffle(shuffle.begin(), shuffle.end(), std::mt19937(5));  // new vertex i is old vertex shuffle[i]
+    std::vector<std::uint32_t> rank(n);
+    for (std::uint32_t i = 0; i < n; ++i) rank[shuffle[i]] = i;
+    TriangleMesh shuffled;
+    std::vector<double> shuffled_s(n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        shuffled.positions.push_back(scene.mesh.positions[shuffle[i]]);
+        shuffled_s[i] = scene.s[shuffle[i]];
+    }
+    for (const auto& t : scene.mesh.triangles) shuffled.triangles.push_back({rank[t[0]], rank[t[1]], rank[t[2]]});
+    const InnerMotion motion = InnerMotion::along_curve(bend_curve(), InnerMotionMode::Rotation, 0.0, 1.0);
+    DeformationOptions options;
+    options.steps = 60;
+    Deformation original = scene.deformation(motion, options.steps);
+    Deformation reordered(shuffled.positions, build_vertex_rings(shuffled), Region{shuffled_s, {}}, motion, options);
+    original.advance(1.0);
+    reordered.advance(1.0);
+    double worst = 0.0, moved = 0.0;
+    for (std::uint32_t v = 0; v < n; ++v) {
+        worst = std::max(worst, glm::length(reordered.positions()[rank[v]] - original.positions()[v]));
+        moved = std::max(moved, glm::length(original.positions()[v] - scene.mesh.positions[v]));
+    }
+    CHECK(moved > 0.1);
+    CHECK(worst < 1e-9);
+}
+
 TEST_CASE("region parts list each blend vertex's blend neighbours", "[deform]") {
     const BoxScene scene;
     const VertexRings rings = build_vertex_rings(scene.mesh);

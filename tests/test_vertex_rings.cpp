@@ -1,6 +1,10 @@
 #include <catch2/catch.hpp>
 
+#include <cstdint>
+
+#include "mesh/builtin_meshes.h"
 #include "mesh/geometry.h"
+#include "mesh/vertex_order.h"
 #include "mesh/vertex_rings.h"
 
 using namespace vfsd;
@@ -50,4 +54,32 @@ TEST_CASE("two closed fans meeting at one vertex keep only real wedges", "[mesh]
         CHECK(found);
     }
     CHECK(wedges == 6);
+}
+
+TEST_CASE("the breadth-first order is a permutation and reorder_rings renumbers the rings", "[mesh]") {
+    const TriangleMesh mesh = make_builtin_mesh("sphere", 3);
+    const VertexRings rings = build_vertex_rings(mesh);
+    const std::vector<std::uint32_t> order = breadth_first_order(rings);
+    REQUIRE(order.size() == mesh.vertex_count());
+    std::vector<std::uint32_t> rank(order.size(), UINT32_MAX);
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        REQUIRE(rank[order[i]] == UINT32_MAX);  // each vertex once
+        rank[order[i]] = static_cast<std::uint32_t>(i);
+    }
+    const VertexRings reordered = reorder_rings(rings, order);
+    std::size_t reached_from_earlier = 0;
+    for (std::uint32_t i = 0; i < order.size(); ++i) {
+        const std::uint32_t v = order[i];
+        REQUIRE(reordered.valence(i) == rings.valence(v));
+        bool earlier_neighbour = false;
+        for (std::uint32_t k = 0; k < rings.valence(v); ++k) {
+            CHECK(order[reordered.neighbours[reordered.begin(i) + k]] == rings.neighbours[rings.begin(v) + k]);
+            CHECK(reordered.wedge[reordered.begin(i) + k] == rings.wedge[rings.begin(v) + k]);
+            earlier_neighbour |= reordered.neighbours[reordered.begin(i) + k] < i;
+        }
+        reached_from_earlier += earlier_neighbour;
+    }
+    // Breadth-first on a connected mesh: every vertex but the first is found
+    // from one listed before it.
+    CHECK(reached_from_earlier == order.size() - 1);
 }

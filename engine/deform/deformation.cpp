@@ -6,6 +6,7 @@
 #include <string>
 
 #include "base/error.h"
+#include "mesh/vertex_order.h"
 
 namespace vfsd {
 
@@ -24,7 +25,14 @@ Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region 
                              std::to_string(positions_.size()) + " vertices");
         if (rings_.vertex_count() != positions_.size()) throw InputError("rings do not match the mesh");
     }
-    if (!region_.sphere_tool) parts_ = RegionParts::of(region_.s, rings_);
+    if (!region_.sphere_tool) {
+        order_ = breadth_first_order(rings_);
+        positions_ = gather_in_order(positions_, order_);
+        rings_ = reorder_rings(rings_, order_);
+        s_ = gather_in_order(region_.s, order_);
+        parts_ = RegionParts::of(s_, rings_);
+        input_order_.resize(positions_.size());
+    }
     normals_.assign(positions_.size(), Vec3(0.0));
     gradients_.assign(positions_.size(), Vec3(0.0));
     next_ = positions_;
@@ -62,20 +70,30 @@ void Deformation::step(double h) {
             estimate_surface_gradients(positions_);
         } else {
             if (!have_gradients_) estimate_surface_gradients(positions_);
-            predict_midpoints(motion.start, h, region_.s, parts_, gradients_, positions_, midpoints_);
+            predict_midpoints(motion.start, h, s_, parts_, gradients_, positions_, midpoints_);
             estimate_surface_gradients(midpoints_);
         }
-        deformation_step(motion, region_.s, parts_, gradients_, positions_, next_);
+        deformation_step(motion, s_, parts_, gradients_, positions_, next_);
         check_finite(next_);
     }
     positions_.swap(next_);
+    input_order_current_ = false;
     step_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+}
+
+const std::vector<Vec3>& Deformation::positions() const {
+    if (order_.empty()) return positions_;
+    if (!input_order_current_) {
+        for (std::size_t i = 0; i < order_.size(); ++i) input_order_[order_[i]] = positions_[i];
+        input_order_current_ = true;
+    }
+    return input_order_;
 }
 
 // Normal, gradient (eq. 6) and smoothing passes on the positions `at`.
 void Deformation::estimate_surface_gradients(const std::vector<Vec3>& at) {
     estimate_normals(at, rings_, parts_.blend, normals_);
-    estimate_gradients(at, normals_, region_.s, rings_, parts_.blend, gradients_);
+    estimate_gradients(at, normals_, s_, rings_, parts_.blend, gradients_);
     smooth_gradients(normals_, parts_, options_.smoothing_steps, options_.smoothing_weight, gradients_, smoothing_);
     have_gradients_ = true;
 }
@@ -89,7 +107,8 @@ std::size_t bytes(const std::vector<T>& v) {
 
 std::size_t Deformation::state_bytes() const {
     return bytes(positions_) + bytes(next_) + bytes(midpoints_) + bytes(normals_) + bytes(gradients_) +
-           bytes(smoothing_.gradients) + bytes(smoothing_.next) + bytes(smoothing_.normals) + bytes(region_.s) + bytes(rings_.offsets) + bytes(rings_.neighbours) +
+           bytes(input_order_) + bytes(smoothing_.gradients) + bytes(smoothing_.next) + bytes(smoothing_.normals) +
+           bytes(region_.s) + bytes(s_) + bytes(order_) + bytes(rings_.offsets) + bytes(rings_.neighbours) +
            bytes(rings_.wedge) + bytes(parts_.blend) + bytes(parts_.inner) + bytes(parts_.blend_ring_offsets) +
            bytes(parts_.blend_rings);
 }
@@ -99,8 +118,9 @@ void Deformation::check_finite(const std::vector<Vec3>& candidate) const {
     const auto check = [&](std::size_t v) {
         const Vec3& p = candidate[v];
         if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) return;
+        const std::size_t input_vertex = order_.empty() ? v : order_[v];
         throw NumericalError("integration step " + std::to_string(step_ms_.size() + 1) + " (t = " +
-                             std::to_string(time_) + ") made vertex " + std::to_string(v) +
+                             std::to_string(time_) + ") made vertex " + std::to_string(input_vertex) +
                              " non-finite; the mesh before that step is kept");
     };
     if (region_.sphere_tool) {

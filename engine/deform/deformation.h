@@ -46,7 +46,8 @@ public:
     int advance(double target, int max_steps = 1 << 30);
 
     double time() const { return time_; }
-    const std::vector<Vec3>& positions() const { return positions_; }
+    // In the input's vertex order (the steps work in a breadth-first order).
+    const std::vector<Vec3>& positions() const;
     const Region& region() const { return region_; }
     const InnerMotion& motion() const { return motion_; }
     const DeformationOptions& options() const { return options_; }
@@ -60,8 +61,14 @@ private:
     void check_finite(const std::vector<Vec3>& candidate) const;
     void estimate_surface_gradients(const std::vector<Vec3>& at);
 
+    // positions_, rings_ and s_ are in the work order: vertex i is input vertex
+    // order_[i] (mesh/vertex_order.h); order_ is empty for the sphere tool.
     std::vector<Vec3> positions_;
     VertexRings rings_;
+    std::vector<std::uint32_t> order_;
+    std::vector<double> s_;
+    mutable std::vector<Vec3> input_order_;  // positions() for a work order
+    mutable bool input_order_current_ = false;
     Region region_;
     InnerMotion motion_;
     DeformationOptions options_;
