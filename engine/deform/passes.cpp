@@ -102,7 +102,7 @@ void rk4_lanes(const StepMotion& motion, const PreparedMotion (&m)[3], const Ble
     const double h = motion.h;
     Lanes3 k, x, sum;
     deformation_velocities(m[0], count, in.one_minus_b, in.grad_b, in.position, k);  // k1
-    add_scaled(count, k, 0.0, k, sum);
+    std::copy_n(k.x, count, sum.x), std::copy_n(k.y, count, sum.y), std::copy_n(k.z, count, sum.z);
     add_scaled(count, in.position, 0.5 * h, k, x);
     deformation_velocities(m[1], count, in.one_minus_b, in.grad_b, x, k);  // k2
     add_scaled(count, sum, 2.0, k, sum);

@@ -67,7 +67,7 @@ void deformation_velocities(const PreparedMotion& m, int n, const double* __rest
         double s2 = y0 * m.v[1] - y1 * m.v[0];
         add_rotation_stream(m.omega, m.omega_inv2, 0.0, y0, y1, y2, s0, s1, s2);
         add_rotation_stream(m.twist, m.twist_inv2, m.twist_shift, y0, y1, y2, s0, s1, s2);
-        // v = (1 − b)² ∇e × ∇f − (1 − b) (f ∇e − e ∇f) × ∇b.
+        // v = (1 − b)² ∇e × ∇f − (1 − b) (f ∇e − e ∇f) × ∇b  (eqs. 1–3 expanded).
         const double a = one_minus_b[j];
         ox[j] = a * a * i0 - a * (s1 * gz[j] - s2 * gy[j]);
         oy[j] = a * a * i1 - a * (s2 * gx[j] - s0 * gz[j]);

@@ -1,5 +1,6 @@
 #pragma once
-// The field of vector_field.h for many points at once: the same formulas over
+// The field of vector_field.h (eqs. 1–4 with e, f of eqs. 9–13 and the twist
+// of eq. 14) for many points at once: the same formulas over
 // structure-of-arrays lanes, with the motion's divisions and square roots done
 // once per sample, in a loop the compiler vectorises (SSE2 or AVX on x86-64,
 // simd128 in WebAssembly). deformation_velocity stays the readable reference;
