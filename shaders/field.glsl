@@ -6,6 +6,7 @@ struct Motion {
     vec3 angular_velocity;  // ω(t), zero in translation mode
     vec3 twist;             // τ(t) = α̇(t) ĉ(t)
     float twist_plane;      // where the twist's plane ẽ = 0 lies along ĉ, from c(t)
+    vec3 stream_origin;     // o: where e and f are built about (c(t) by default)
 };
 
 // b(u) of eq. (4): 4u³ − 3u⁴ on [0,1], 0 below, 1 above.
@@ -37,12 +38,14 @@ vec3 inner_velocity(Motion m, vec3 x) {
     return m.velocity + cross(m.angular_velocity + m.twist, x - m.position);
 }
 
-// f ∇e − e ∇f (+ f̃ ∇ẽ − ẽ ∇f̃): translation (eqs. 9–10), rotation (eqs. 11–13),
-// twist (eq. 14) with its plane at m.twist_plane.
+// f ∇e − e ∇f (+ f̃ ∇ẽ − ẽ ∇f̃): translation (eqs. 9–10) with U = ċ + ω × (o − c),
+// the velocity at the stream's origin o, and rotation (eqs. 11–13) about o; twist
+// (eq. 14) about c with its plane at m.twist_plane.
 vec3 stream_vector(Motion m, vec3 x) {
-    vec3 y = x - m.position;
-    return cross(y, m.velocity) + rotation_stream(m.angular_velocity, y, 0.0) +
-           rotation_stream(m.twist, y, m.twist_plane);
+    vec3 z = x - m.stream_origin;
+    vec3 u = m.velocity + cross(m.angular_velocity, m.stream_origin - m.position);
+    return cross(z, u) + rotation_stream(m.angular_velocity, z, 0.0) +
+           rotation_stream(m.twist, x - m.position, m.twist_plane);
 }
 
 // v + ṽ = (1 − b)² ∇e × ∇f − (1 − b) (f ∇e − e ∇f) × ∇b   (eqs. 1–3)

@@ -84,6 +84,31 @@ TEST_CASE("outer vertices stay exactly, inner vertices move rigidly", "[deform]"
     }
 }
 
+TEST_CASE("the stream's origin changes the blend region only", "[deform]") {
+    const BoxScene scene;
+    const double diag = bounding_box(scene.mesh.positions).diagonal();
+    for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation}) {
+        InnerMotion at_curve = InnerMotion::along_curve(bend_curve(), mode, 0.0, 0.5);
+        InnerMotion fixed = at_curve;
+        fixed.set_stream_origin(Vec3(0.2, 0.1, -0.1));  // inside the blend region
+        Deformation a = scene.deformation(at_curve), b = scene.deformation(fixed);
+        a.advance(1.0);
+        b.advance(1.0);
+        const DeformationQuality q = measure_quality(scene.mesh.positions, b.positions(), scene.mesh.triangles, scene.s);
+        CHECK(q.outer_max_displacement == 0.0);
+        CHECK(q.flipped_triangles == 0);
+        CHECK(q.volume_error_percent < 2.0);
+        double inner_gap = 0.0, blend_gap = 0.0;
+        for (std::size_t v = 0; v < scene.s.size(); ++v) {
+            const double gap = glm::length(a.positions()[v] - b.positions()[v]);
+            double& largest = scene.s[v] == 0.0 ? inner_gap : blend_gap;
+            largest = std::max(largest, gap);
+        }
+        CHECK(inner_gap < 1e-12 * diag);
+        CHECK(blend_gap > 1e-3 * diag);
+    }
+}
+
 TEST_CASE("translation mode moves the inner region by c(1) - c(0) without turning it", "[deform]") {
     const BoxScene scene;
     Deformation d = scene.deformation(InnerMotion::along_curve(bend_curve(), InnerMotionMode::Translation, 0.0, 0.0));

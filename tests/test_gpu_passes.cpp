@@ -72,6 +72,7 @@ InnerMotion test_motion() {
     BezierCurve curve({{0, 0, 0.6}, {0, 0, 1.0}, {0.3, 0, 1.4}, {0.8, 0.1, 1.6}});
     InnerMotion motion = InnerMotion::along_curve(curve, InnerMotionMode::Rotation, 0.0, 1.2);
     motion.set_twist_plane(-0.7);
+    motion.set_stream_origin(Vec3(0.1, -0.2, 0.3));
     return motion;
 }
 
@@ -165,10 +166,12 @@ TEST_CASE("GPU midpoint predictor equals predict_midpoints", "[gpu]") {
 
 TEST_CASE("GPU deformation pass equals one RK4 deformation_step", "[gpu]") {
     VFSD_REQUIRE_GPU_CONTEXT();
-    for (const auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation}) {
+    for (const auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation})
+    for (const auto& origin : {std::optional<Vec3>(), std::optional<Vec3>(Vec3(0.1, -0.2, 0.3))}) {
         BezierCurve curve({{0, 0, 0.6}, {0, 0, 1.0}, {0.3, 0, 1.4}, {0.8, 0.1, 1.6}});
         InnerMotion motion = InnerMotion::along_curve(curve, mode, 0.0, 1.2);
         motion.set_twist_plane(-0.7);
+        motion.set_stream_origin(origin);
         for (const PassInput& in : pass_inputs()) {
             gpu::GpuPasses gpu(in.positions, in.s, in.rings);
             std::vector<Vec3> normals;

@@ -260,3 +260,21 @@ TEST_CASE("the CLI report says when the volume is undefined", "[hostile][scene][
     const std::string text((std::istreambuf_iterator<char>(out)), std::istreambuf_iterator<char>());
     CHECK_THAT(text, Catch::Contains("volume undefined"));
 }
+
+TEST_CASE("stream_origin is \"curve\" or a point, and survives a save", "[hostile][scene]") {
+    json j = box_scene();
+    for (const json& bad : {json("region"), json({1, 2}), json(3.0), json({1, "a", 2})}) {
+        j["stream_origin"] = bad;
+        CHECK_THAT(message_of([&] { parse_scene(j, "", "o.json"); }), Catch::Contains("o.json: stream_origin: expected"));
+    }
+    j["stream_origin"] = "curve";
+    CHECK_FALSE(parse_scene(j, "", "o.json").stream_origin.has_value());
+    j["stream_origin"] = {0.1, 0.2, -0.1};
+    const Scene scene = parse_scene(j, "", "o.json");
+    REQUIRE(scene.stream_origin.has_value());
+    CHECK(*scene.stream_origin == Vec3(0.1, 0.2, -0.1));
+    const Scene again = parse_scene(scene_to_json(scene), "", "o.json");
+    REQUIRE(again.stream_origin.has_value());
+    CHECK(*again.stream_origin == *scene.stream_origin);
+    CHECK(scene_motion(again).at(0.5).stream_origin == Vec3(0.1, 0.2, -0.1));
+}

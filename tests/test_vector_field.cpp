@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <random>
 
 #include "curve/inner_motion.h"
@@ -50,13 +51,17 @@ double divergence(const MotionSample& m, const SphereBlend& s, const Vec3& x, do
     return div;
 }
 
-InnerMotion curved_motion(InnerMotionMode mode, double twist) {
+InnerMotion curved_motion(InnerMotionMode mode, double twist, std::optional<Vec3> stream_origin = {}) {
     // Two segments with a straight piece and an inflection.
     BezierCurve curve({{0, 0, 0}, {0, 0, 1}, {0, 0, 2}, {0, 0, 3}, {0, 1, 4}, {1, 2, 3}, {2, 1, 5}});
     InnerMotion motion = InnerMotion::along_curve(curve, mode, 0.0, twist);
     motion.set_twist_plane(-0.7);  // any plane keeps the field divergence-free
+    motion.set_stream_origin(stream_origin);
     return motion;
 }
+
+// The stream's origins the field tests run with: c(t) (eq. 10) and a fixed point.
+const std::optional<Vec3> kStreamOrigins[] = {std::nullopt, Vec3(0.4, -0.9, 1.3)};
 
 }  // namespace
 
@@ -64,8 +69,9 @@ TEST_CASE("the field of the implicit sphere tool is divergence-free", "[field]")
     const SphereBlend blend{{0.2, -0.1, 0.3}, 0.5, 1.5};
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> coord(-1.6, 1.6);
-    for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation}) {
-        const InnerMotion motion = curved_motion(mode, 2.0);
+    for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation})
+    for (const auto& origin : kStreamOrigins) {
+        const InnerMotion motion = curved_motion(mode, 2.0, origin);
         for (int i = 0; i < 200; ++i) {
             const MotionSample m = motion.at(i / 199.0);
             const Vec3 x = blend.centre + Vec3(coord(rng), coord(rng), coord(rng));
@@ -139,8 +145,9 @@ TEST_CASE("the lane-wise field equals the reference field point by point", "[fie
     // deformation_velocity, with a twist plane off c and a partial last block.
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> coord(-2.0, 2.0), unit(0.0, 1.0);
-    for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation}) {
-        const InnerMotion motion = curved_motion(mode, 1.5);
+    for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation})
+    for (const auto& origin : kStreamOrigins) {
+        const InnerMotion motion = curved_motion(mode, 1.5, origin);
         for (double t : {0.2, 0.6, 0.75, 0.95}) {
             const MotionSample m = motion.at(t);
             const int n = kFieldLanes - 3;
@@ -159,5 +166,26 @@ TEST_CASE("the lane-wise field equals the reference field point by point", "[fie
                 CHECK(glm::length(got - expected) <= 1e-12 * std::max(1.0, glm::length(expected)));
             }
         }
+    }
+}
+
+TEST_CASE("the stream's origin is c(t) by default or the fixed point, and changes the blend field", "[field]") {
+    // Moving o is a gauge change: U + ω × (x − o) is the same rigid velocity and the
+    // field stays divergence-free (tests above); the stream, and with it the blend
+    // region's field, differs (test_deformation.cpp: the inner region moves the same).
+    const SphereBlend blend{{0.2, -0.1, 0.3}, 0.5, 1.5};
+    const Vec3 origin(0.4, -0.9, 1.3);
+    for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation}) {
+        const InnerMotion at_curve = curved_motion(mode, 1.0), fixed = curved_motion(mode, 1.0, origin);
+        for (int i = 0; i < 50; ++i) {
+            const double t = i / 49.0;
+            const MotionSample a = at_curve.at(t), b = fixed.at(t);
+            CHECK(a.stream_origin == a.position);
+            CHECK(b.stream_origin == origin);
+        }
+        // In the blend region they differ: the option is not a no-op.
+        const MotionSample a = at_curve.at(0.5), b = fixed.at(0.5);
+        const Vec3 x = blend.centre + Vec3(0.0, 0.0, 1.0), grad_b(0.0, 0.0, 1.0);
+        CHECK(glm::length(deformation_velocity(b, x, 0.5, grad_b) - deformation_velocity(a, x, 0.5, grad_b)) > 0.1);
     }
 }

@@ -40,7 +40,13 @@ InnerMotion InnerMotion::rotation_about(Vec3 centre, Vec3 axis_angle) {
 }
 
 MotionSample InnerMotion::at(double t) const {
-    if (fixed_rotation_) return {centre_, Vec3(0.0), axis_angle_, Vec3(0.0)};
+    if (fixed_rotation_) {
+        MotionSample s;
+        s.position = centre_;
+        s.angular_velocity = axis_angle_;
+        s.stream_origin = stream_origin_.value_or(centre_);
+        return s;
+    }
     MotionSample s = curve_sample(t);
     const double scale = curve_.polygon_length();
     if (glm::length(s.velocity) > kStationary * scale || scale == 0.0) return s;
@@ -68,6 +74,7 @@ MotionSample InnerMotion::curve_sample(double t) const {
     const double alpha_rate = alpha1_ - alpha0_;
     s.twist = alpha_rate * (c.d1 / speed);
     s.twist_plane = twist_plane_;
+    s.stream_origin = stream_origin_.value_or(c.position);
     return s;
 }
 

@@ -9,6 +9,8 @@
 // where ω is the angular velocity of the rotation mode and τ = α̇(t) ĉ(t) the twist.
 // MotionSample is what the vector field (field/vector_field.h) needs at one time.
 
+#include <optional>
+
 #include "curve/bezier_curve.h"
 
 namespace vfsd {
@@ -26,6 +28,10 @@ struct MotionSample {
     // Where the twist's plane ẽ = 0 lies along ĉ, as a signed distance from c(t).
     // Eq. (14) puts it through c (0); see InnerMotion::set_twist_plane.
     double twist_plane = 0.0;
+    // Where the zero sets of e and f meet, i.e. the point about which the stream
+    // f ∇e − e ∇f of translation and rotation is expanded. Eq. (10) puts it at c(t);
+    // see InnerMotion::set_stream_origin.
+    Vec3 stream_origin{0.0};
 };
 
 class InnerMotion {
@@ -50,6 +56,17 @@ public:
     void set_twist_plane(double signed_distance) { twist_plane_ = signed_distance; }
     double twist_plane() const { return twist_plane_; }
 
+    // The stream's origin o. The inner region's velocity ċ + ω × (x − c) is also
+    // U + ω × (x − o) with U = ċ + ω × (o − c), so e, f may be built about any point
+    // o (planes through o for U, eqs. 9–10; an axis through o for ω, eqs. 11–13):
+    // the inner region moves the same and v stays divergence-free, but the blend
+    // region's stream grows with the distance from o (linearly for U, squared for
+    // ω). Eq. (10)'s o = c(t) suits moves that stay near the start; a point fixed
+    // inside the blend region keeps the stream small there when c(t) travels far
+    // (a loop, fig. 14). Unset: o = c(t). See docs/method.md.
+    void set_stream_origin(std::optional<Vec3> fixed_point) { stream_origin_ = fixed_point; }
+    const std::optional<Vec3>& stream_origin() const { return stream_origin_; }
+
     InnerMotionMode mode() const { return mode_; }
     const BezierCurve& curve() const { return curve_; }
     bool is_fixed_rotation() const { return fixed_rotation_; }
@@ -66,6 +83,7 @@ private:
     double alpha0_ = 0.0, alpha1_ = 0.0;
     bool fixed_rotation_ = false;
     double twist_plane_ = 0.0;
+    std::optional<Vec3> stream_origin_;
     Vec3 centre_{0.0}, axis_angle_{0.0};
 };
 

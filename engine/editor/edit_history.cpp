@@ -9,7 +9,8 @@ bool operator==(const CurveSettings& a, const CurveSettings& b) {
     return a.curve.is_handle == b.curve.is_handle && a.curve.bezier == b.curve.bezier &&
            frame_equal(a.curve.from, b.curve.from) && frame_equal(a.curve.to, b.curve.to) &&
            a.inner_motion == b.inner_motion && a.twist_degrees[0] == b.twist_degrees[0] &&
-           a.twist_degrees[1] == b.twist_degrees[1] && a.twist_plane == b.twist_plane;
+           a.twist_degrees[1] == b.twist_degrees[1] && a.twist_plane == b.twist_plane &&
+           a.stream_origin == b.stream_origin;
 }
 
 void EditHistory::push(HistoryEntry entry) {

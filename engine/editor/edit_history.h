@@ -32,6 +32,7 @@ struct CurveSettings {
     InnerMotionMode inner_motion = InnerMotionMode::Rotation;
     double twist_degrees[2] = {0.0, 0.0};
     std::optional<double> twist_plane;
+    std::optional<Vec3> stream_origin;
 };
 
 bool operator==(const CurveSettings& a, const CurveSettings& b);

@@ -70,6 +70,7 @@ CurveSettings settings_of(const Scene& scene) {
     c.twist_degrees[0] = scene.twist_degrees[0];
     c.twist_degrees[1] = scene.twist_degrees[1];
     c.twist_plane = scene.twist_plane;
+    c.stream_origin = scene.stream_origin;
     return c;
 }
 
@@ -79,6 +80,7 @@ Scene with_curve(Scene scene, const CurveSettings& c) {
     scene.twist_degrees[0] = c.twist_degrees[0];
     scene.twist_degrees[1] = c.twist_degrees[1];
     scene.twist_plane = c.twist_plane;
+    scene.stream_origin = c.stream_origin;
     return scene;
 }
 

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "field/vector_field.h"
+
 namespace vfsd {
 namespace {
 
@@ -36,6 +38,8 @@ PreparedMotion::PreparedMotion(const MotionSample& m) {
     copy3(m.twist, twist);
     twist_inv2 = inverse_square_length(m.twist);
     twist_shift = m.twist_plane == 0.0 ? 0.0 : std::sqrt(glm::dot(m.twist, m.twist)) * m.twist_plane;
+    copy3(m.stream_origin, o);
+    copy3(origin_velocity(m), u);
 }
 
 // On x86-64 with GCC, an AVX2 clone (four doubles per instruction, no FMA, so
@@ -61,11 +65,12 @@ void deformation_velocities(const PreparedMotion& m, int n, const double* __rest
         const double i0 = m.v[0] + (m.w[1] * y2 - m.w[2] * y1);
         const double i1 = m.v[1] + (m.w[2] * y0 - m.w[0] * y2);
         const double i2 = m.v[2] + (m.w[0] * y1 - m.w[1] * y0);
-        // Stream vector f ∇e − e ∇f = y × ċ + rotation streams of ω and τ.
-        double s0 = y1 * m.v[2] - y2 * m.v[1];
-        double s1 = y2 * m.v[0] - y0 * m.v[2];
-        double s2 = y0 * m.v[1] - y1 * m.v[0];
-        add_rotation_stream(m.omega, m.omega_inv2, 0.0, y0, y1, y2, s0, s1, s2);
+        // Stream vector f ∇e − e ∇f = z × U + rotation streams of ω (about o) and τ (about c).
+        const double z0 = px[j] - m.o[0], z1 = py[j] - m.o[1], z2 = pz[j] - m.o[2];
+        double s0 = z1 * m.u[2] - z2 * m.u[1];
+        double s1 = z2 * m.u[0] - z0 * m.u[2];
+        double s2 = z0 * m.u[1] - z1 * m.u[0];
+        add_rotation_stream(m.omega, m.omega_inv2, 0.0, z0, z1, z2, s0, s1, s2);
         add_rotation_stream(m.twist, m.twist_inv2, m.twist_shift, y0, y1, y2, s0, s1, s2);
         // v = (1 − b)² ∇e × ∇f − (1 − b) (f ∇e − e ∇f) × ∇b  (eqs. 1–3 expanded).
         const double a = one_minus_b[j];

@@ -36,16 +36,21 @@ Vec3 inner_velocity(const MotionSample& m, const Vec3& x) {
     return m.velocity + glm::cross(m.angular_velocity + m.twist, x - m.position);
 }
 
+Vec3 origin_velocity(const MotionSample& m) {
+    return m.velocity + glm::cross(m.angular_velocity, m.stream_origin - m.position);
+}
+
 Vec3 stream_vector(const MotionSample& m, const Vec3& x) {
-    // Translation, eqs. (9)–(10): e = a·y, f = b·y with a × b = ċ give
-    // f ∇e − e ∇f = (b·y) a − (a·y) b = y × ċ, free of the choice of a, b.
-    // Rotation, eqs. (11)–(13), with f shifted so that f(c) = 0 as in eq. (10):
-    // the curvature-centre terms cancel to the same y × ċ plus a rotation stream
-    // about the axis through c. The twist, eq. (14), is a rotation stream too,
-    // its plane ẽ = 0 at m.twist_plane along ĉ (eq. 14 as printed: 0, through c).
-    const Vec3 y = x - m.position;
-    return glm::cross(y, m.velocity) + rotation_stream(m.angular_velocity, y) +
-           rotation_stream(m.twist, y, m.twist_plane);
+    // Translation, eqs. (9)–(10): e = a·z, f = b·z with z = x − o and a × b = U give
+    // f ∇e − e ∇f = (b·z) a − (a·z) b = z × U, free of the choice of a, b.
+    // Rotation, eqs. (11)–(13), with f shifted so that f(o) = 0 as eq. (10) does at
+    // o = c: the curvature-centre terms cancel to z × U plus a rotation stream about
+    // the axis through o, U = ċ + ω × (o − c) being the velocity at o (U = ċ at the
+    // default o = c). The twist, eq. (14), is a rotation stream about the axis
+    // through c, its plane ẽ = 0 at m.twist_plane along ĉ (as printed: 0, through c).
+    const Vec3 z = x - m.stream_origin;
+    return glm::cross(z, origin_velocity(m)) + rotation_stream(m.angular_velocity, z) +
+           rotation_stream(m.twist, x - m.position, m.twist_plane);
 }
 
 Vec3 deformation_velocity(const MotionSample& m, const Vec3& x, double b, const Vec3& grad_b) {

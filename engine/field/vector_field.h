@@ -20,7 +20,10 @@ double bernstein_blend_derivative(double u);
 
 // Rigid velocity of the inner region at x: ∇e × ∇f (+ ∇ẽ × ∇f̃).
 Vec3 inner_velocity(const MotionSample& m, const Vec3& x);
-// f ∇e − e ∇f (+ f̃ ∇ẽ − ẽ ∇f̃) at x.
+// The inner region's velocity without the twist at the stream's origin o:
+// U = ċ + ω × (o − c).
+Vec3 origin_velocity(const MotionSample& m);
+// f ∇e − e ∇f (+ f̃ ∇ẽ − ẽ ∇f̃) at x, e and f built about m.stream_origin.
 Vec3 stream_vector(const MotionSample& m, const Vec3& x);
 
 // v + ṽ at x, given the blend b(x) and its spatial gradient ∇b(x).

@@ -141,6 +141,10 @@ void parse_motion_and_options(const Reader& in, const json& j, Scene& scene) {
         else if (plane.is_number()) scene.twist_plane = in.number(plane, "twist_plane");
         else if (plane != "region") in.fail("twist_plane", "expected \"region\", \"curve\" or a number");
     }
+    if (j.contains("stream_origin") && j["stream_origin"] != "curve") {
+        if (!j["stream_origin"].is_array()) in.fail("stream_origin", "expected \"curve\" or [x, y, z]");
+        scene.stream_origin = in.vec3(j["stream_origin"], "stream_origin");
+    }
     if (j.contains("steps")) scene.options.steps = in.integer(j["steps"], "steps", 1, 1000000);
     if (j.contains("smoothing_steps")) scene.options.smoothing_steps = in.integer(j["smoothing_steps"], "smoothing_steps", 0, 10000);
     if (j.contains("target_time")) {
@@ -194,6 +198,7 @@ InnerMotion scene_motion(const Scene& scene) {
                              : InnerMotion::along_curve(BezierCurve(scene.curve.bezier), scene.inner_motion,
                                                         scene.twist_degrees[0] * kDegrees, scene.twist_degrees[1] * kDegrees);
     if (scene.twist_plane) motion.set_twist_plane(*scene.twist_plane);
+    motion.set_stream_origin(scene.stream_origin);
     return motion;
 }
 
@@ -254,6 +259,8 @@ nlohmann::json scene_to_json(const Scene& scene) {
     j["twist_degrees"] = {scene.twist_degrees[0], scene.twist_degrees[1]};
     if (scene.twist_plane) j["twist_plane"] = *scene.twist_plane;
     else j["twist_plane"] = "region";
+    if (scene.stream_origin) j["stream_origin"] = to_json(*scene.stream_origin);
+    else j["stream_origin"] = "curve";
     j["steps"] = scene.options.steps;
     j["smoothing_steps"] = scene.options.smoothing_steps;
     j["target_time"] = scene.target_time;

@@ -13,6 +13,7 @@
 //   "inner_motion": "rotation" | "translation",
 //   "twist_degrees": [a0, a1],
 //   "twist_plane": "region" | "curve" | ζ0,          // where eq. (14)'s ẽ = 0 (default "region")
+//   "stream_origin": "curve" | [x,y,z],               // where e, f are built about (default c(t))
 //   "steps": 250, "smoothing_steps": 10, "target_time": 1.0 }
 
 #include <optional>
@@ -54,6 +55,9 @@ struct Scene {
     // Plane ẽ = 0 of the twist at this signed distance along ĉ from c; unset means
     // "region": at the far end of the moving part (see InnerMotion::set_twist_plane).
     std::optional<double> twist_plane;
+    // A fixed point the stream of eqs. (9)–(13) is built about; unset means "curve":
+    // c(t), as eq. (10) (see InnerMotion::set_stream_origin).
+    std::optional<Vec3> stream_origin;
     DeformationOptions options;
     double target_time = 1.0;
 };
