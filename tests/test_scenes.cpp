@@ -82,15 +82,6 @@ TEST_CASE("paper-figure scenes keep the outer region and move the inner one rigi
         CHECK(r.quality.outer_max_displacement == 0.0);
         CHECK(r.quality.inner_rigid_residual < 1e-5);
         CHECK(r.quality.nonfinite_vertices == 0);
-        if (!r.paper.contains("known_failure")) check_paper_figures(r);
-    }
-}
-
-// Scenes marked "known_failure" are measured and reported, not yet held to the figures.
-TEST_CASE("paper-figure scenes with a known failure", "[scenes][!mayfail]") {
-    for (const std::string& file : scene_files()) {
-        const nlohmann::json paper = nlohmann::json::parse(std::ifstream(file)).value("paper", nlohmann::json::object());
-        if (!paper.contains("known_failure") || !scene_available(file)) continue;
-        check_paper_figures(run_scene(file));
+        check_paper_figures(r);
     }
 }
