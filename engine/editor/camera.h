@@ -9,7 +9,7 @@
 
 #include <glm/mat4x4.hpp>
 
-#include "mesh/triangle_mesh.h"
+#include "mesh/ray_cast.h"  // Ray
 
 namespace vfsd::editor {
 
@@ -17,11 +17,6 @@ struct Viewport {
     int width = 1;
     int height = 1;
     double aspect() const { return double(width) / double(height > 0 ? height : 1); }
-};
-
-struct Ray {
-    Vec3 origin{0.0};
-    Vec3 direction{0.0, 0.0, -1.0};  // unit length
 };
 
 enum class StandardView { front, back, left, right, top, bottom, iso };
