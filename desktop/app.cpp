@@ -329,8 +329,7 @@ void App::draw_overlay() {
     const bool brush = tools_.tool == editor::Tool::paint_inner || tools_.tool == editor::Tool::paint_outer ||
                        tools_.tool == editor::Tool::erase || tools_.tool == editor::Tool::paint_s;
     if (brush && !ImGui::GetIO().WantCaptureMouse) {
-        const auto hit = editor::pick_surface(camera_.ray(mouse.x / scale, mouse.y / scale, v), session_->positions(),
-                                              session_->triangles());
+        const auto hit = session_->pick_surface(camera_.ray(mouse.x / scale, mouse.y / scale, v));
         if (hit) {
             bool a = false, b = false;
             const ImVec2 c = screen(hit->position, a);

@@ -1,10 +1,12 @@
 // The editor's camera and picking: a pixel's ray meets what is drawn at that pixel,
-// zoom keeps the point under the cursor, drags land under the cursor.
+// zoom keeps the point under the cursor, drags land under the cursor, and the
+// session's picker agrees with the plain loop as the mesh deforms.
 
 #include <catch2/catch.hpp>
 
 #include "editor/camera.h"
 #include "editor/picking.h"
+#include "editor/session.h"
 #include "io/mesh_file.h"
 
 using namespace vfsd;
@@ -108,4 +110,57 @@ TEST_CASE("drag_point: screen-plane drags land under the cursor, axis drags move
     CHECK(along_z.x == from.x);
     CHECK(along_z.y == from.y);
     CHECK(along_z.z > from.z);  // dragging up the screen lifts it
+}
+
+namespace {
+
+// The session's picker against the loop over all triangles at the session's positions, on a grid of pixels.
+void check_session_picks(const EditorSession& session, const Camera& camera, const Viewport& viewport) {
+    int hits = 0;
+    for (int y = 0; y < viewport.height; y += 12)
+        for (int x = 0; x < viewport.width; x += 12) {
+            const Ray ray = camera.ray(x + 0.5, y + 0.5, viewport);
+            const auto expected = pick_surface(ray, session.positions(), session.triangles());
+            const auto got = session.pick_surface(ray);
+            REQUIRE(got.has_value() == expected.has_value());
+            if (!got) continue;
+            ++hits;
+            CHECK(got->point.triangle == expected->point.triangle);
+            CHECK(got->point.barycentric == expected->point.barycentric);
+            CHECK(got->distance == expected->distance);
+            CHECK(got->position == expected->position);
+            CHECK(got->nearest_vertex == expected->nearest_vertex);
+        }
+    CHECK(hits > 100);
+}
+
+}  // namespace
+
+TEST_CASE("Picking: the session's picker follows the deformation, apply and undo", "[editor][camera]") {
+    EditorSession session;
+    session.open_mesh("builtin:bar:6");
+    const Viewport viewport{480, 360};
+    const Camera camera = framed(load_mesh("builtin:bar:6"), viewport);
+    check_session_picks(session, camera, viewport);
+
+    const std::uint64_t rest = session.positions_revision();
+    session.set_target_time(0.6);
+    while (session.moving()) session.update(10);
+    CHECK(session.positions_revision() != rest);
+    check_session_picks(session, camera, viewport);
+
+    session.apply();
+    check_session_picks(session, camera, viewport);
+    REQUIRE(session.undo());
+    check_session_picks(session, camera, viewport);
+}
+
+TEST_CASE("Picking: painting moves no vertex, so the positions' revision stays", "[editor][camera]") {
+    EditorSession session;
+    session.open_mesh("builtin:sphere");
+    const std::uint64_t before = session.positions_revision();
+    BrushSettings brush;
+    brush.tool = BrushTool::paint_outer;
+    session.brush(surface_point_at_vertex(session.triangles(), session.positions().size(), 0), brush);
+    CHECK(session.positions_revision() == before);
 }

@@ -486,7 +486,7 @@ json App::overlay() const {
     const bool brush = tools_.tool == editor::Tool::paint_inner || tools_.tool == editor::Tool::paint_outer ||
                        tools_.tool == editor::Tool::erase || tools_.tool == editor::Tool::paint_s;
     if (brush && mouse_x_ >= 0.0) {
-        const auto hit = editor::pick_surface(camera_.ray(mouse_x_, mouse_y_, v), p, t);
+        const auto hit = session_->pick_surface(camera_.ray(mouse_x_, mouse_y_, v));
         if (hit) {
             const glm::dvec3 c = camera_.project(hit->position, v);
             const glm::dvec3 r = camera_.project(hit->position + tools_.brush.radius * camera_.right(), v);

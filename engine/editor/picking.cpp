@@ -1,42 +1,42 @@
 #include "editor/picking.h"
 
 #include <cmath>
-#include <limits>
 
 namespace vfsd::editor {
 
+namespace {
+
+std::optional<SurfaceHit> surface_hit(const std::optional<RayHit>& hit, const Ray& ray,
+                                      const std::vector<Triangle>& triangles) {
+    if (!hit) return std::nullopt;
+    SurfaceHit out;
+    out.point.triangle = hit->triangle;
+    out.point.barycentric = Vec3(1.0 - hit->u - hit->v, hit->u, hit->v);
+    out.position = ray.origin + hit->t * ray.direction;
+    out.distance = hit->t;
+    const Vec3& w = out.point.barycentric;
+    out.nearest_vertex = triangles[hit->triangle][w[0] >= w[1] && w[0] >= w[2] ? 0 : (w[1] >= w[2] ? 1 : 2)];
+    return out;
+}
+
+}  // namespace
+
 std::optional<SurfaceHit> pick_surface(const Ray& ray, const std::vector<Vec3>& positions,
                                        const std::vector<Triangle>& triangles) {
-    // Möller–Trumbore against every triangle; the nearest hit in front of the eye wins.
-    std::optional<SurfaceHit> best;
-    double best_t = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < triangles.size(); ++i) {
-        const Triangle& tri = triangles[i];
-        const Vec3& a = positions[tri[0]];
-        const Vec3 e1 = positions[tri[1]] - a, e2 = positions[tri[2]] - a;
-        const Vec3 p = glm::cross(ray.direction, e2);
-        const double det = glm::dot(e1, p);
-        if (std::abs(det) < 1e-300) continue;
-        const double inv = 1.0 / det;
-        const Vec3 q = ray.origin - a;
-        const double u = glm::dot(q, p) * inv;
-        if (u < 0.0 || u > 1.0) continue;
-        const Vec3 r = glm::cross(q, e1);
-        const double v = glm::dot(ray.direction, r) * inv;
-        if (v < 0.0 || u + v > 1.0) continue;
-        const double t = glm::dot(e2, r) * inv;
-        if (t <= 0.0 || t >= best_t) continue;
-        best_t = t;
-        SurfaceHit hit;
-        hit.point.triangle = static_cast<std::uint32_t>(i);
-        hit.point.barycentric = Vec3(1.0 - u - v, u, v);
-        hit.position = ray.origin + t * ray.direction;
-        hit.distance = t;
-        const Vec3& w = hit.point.barycentric;
-        hit.nearest_vertex = tri[w[0] >= w[1] && w[0] >= w[2] ? 0 : (w[1] >= w[2] ? 1 : 2)];
-        best = hit;
+    return surface_hit(first_hit_brute_force(ray, positions, triangles), ray, triangles);
+}
+
+std::optional<SurfaceHit> SurfacePicker::pick(const Ray& ray, const std::vector<Vec3>& positions,
+                                              const std::vector<Triangle>& triangles, std::uint64_t topology,
+                                              std::uint64_t shape) {
+    if (topology != topology_ || bvh_.triangle_count() != triangles.size()) {
+        bvh_ = TriangleBvh(positions, triangles);
+        topology_ = topology, shape_ = shape;
+    } else if (shape != shape_) {
+        bvh_.refit(positions);
+        shape_ = shape;
     }
-    return best;
+    return surface_hit(bvh_.first_hit(ray, positions), ray, triangles);
 }
 
 std::optional<std::size_t> pick_screen_point(const std::vector<Vec3>& points, double x, double y,

@@ -2,12 +2,14 @@
 // Picking: the surface point under a ray (ray–triangle intersection on the
 // positions the caller passes, normally the ones on screen: the deformation's
 // current positions), and the nearest of a few 3D points to a pixel (control
-// points, handles).
+// points, handles). The editors pick the surface through EditorSession's
+// SurfacePicker; pick_surface is the plain loop it must agree with.
 
 #include <optional>
 #include <vector>
 
 #include "editor/camera.h"
+#include "mesh/triangle_bvh.h"
 #include "region/surface_point.h"
 
 namespace vfsd::editor {
@@ -19,9 +21,24 @@ struct SurfaceHit {
     std::uint32_t nearest_vertex = 0;  // the triangle's corner closest to the hit
 };
 
-// The first triangle the ray meets (either side faces it), if any.
+// The first triangle the ray meets (either side faces it), if any, by testing
+// every triangle: about 10 ms per million triangles.
 std::optional<SurfaceHit> pick_surface(const Ray& ray, const std::vector<Vec3>& positions,
                                        const std::vector<Triangle>& triangles);
+
+// pick_surface's hit through a TriangleBvh (mesh/triangle_bvh.h), in microseconds
+// on millions of triangles. The hierarchy is built on the first pick after
+// `topology` changes and refit, O(n), on the first pick after `shape` changes: the
+// caller numbers its triangles and its positions (EditorSession's revisions).
+class SurfacePicker {
+public:
+    std::optional<SurfaceHit> pick(const Ray& ray, const std::vector<Vec3>& positions,
+                                   const std::vector<Triangle>& triangles, std::uint64_t topology, std::uint64_t shape);
+
+private:
+    TriangleBvh bvh_;
+    std::uint64_t topology_ = 0, shape_ = 0;
+};
 
 // The index of the point whose projection lies nearest to pixel (x, y), within
 // `radius` pixels; points behind the eye are never picked.

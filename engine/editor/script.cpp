@@ -41,7 +41,7 @@ std::string text(const ScriptAction& a, const char* key) {
 }
 
 SurfacePoint surface_point_at_pixel(const EditorSession& s, const Camera& c, const Viewport& v, glm::dvec2 p) {
-    const auto hit = pick_surface(c.ray(p.x, p.y, v), s.positions(), s.triangles());
+    const auto hit = s.pick_surface(c.ray(p.x, p.y, v));
     if (!hit) throw InputError("no surface under pixel (" + std::to_string(int(p.x)) + ", " + std::to_string(int(p.y)) + ")");
     return hit->point;
 }
@@ -198,7 +198,7 @@ bool ScriptRunner::execute(const ScriptAction& a, EditorSession& session, ToolCo
         std::uint32_t vertex = 0;
         if (a.args.contains("at")) {
             const glm::dvec2 p = pixel(a.args["at"], "at");
-            const auto hit = pick_surface(camera.ray(p.x, p.y, viewport), session.positions(), session.triangles());
+            const auto hit = session.pick_surface(camera.ray(p.x, p.y, viewport));
             if (!hit) throw InputError("no surface under the pixel");
             vertex = hit->nearest_vertex;
         } else if (a.args.contains("vertex")) {

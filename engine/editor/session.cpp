@@ -186,7 +186,7 @@ void EditorSession::replace_document(Document doc) {
     stats_.vertices = doc_.file.mesh.vertex_count();
     stats_.triangles = doc_.file.mesh.triangle_count();
     drop_deformation();
-    ++mesh_revision_, ++curve_revision_;
+    ++mesh_revision_, ++curve_revision_, ++positions_revision_;
     refresh_curve_warnings();
 }
 
@@ -478,6 +478,7 @@ void EditorSession::set_force_cpu(bool cpu) {
 void EditorSession::drop_deformation() {
     // The next deformation starts afresh: the last one's error goes with it.
     runtime_error_.clear();
+    if (deformation_) ++positions_revision_;  // back to the base positions
     deformation_.reset();
     prepared_.reset();
     stats_.ms_per_step = 0.0;
@@ -509,7 +510,7 @@ int EditorSession::update(int max_steps) {
         ensure_deformation();
         taken = deformation_->advance(target_, max_steps);
         if (taken > 0) {
-            ++revision_;
+            ++revision_, ++positions_revision_;
             update_stats();
         }
     } catch (const std::exception& e) {
@@ -531,6 +532,10 @@ void EditorSession::update_stats() {
 
 const std::vector<Vec3>& EditorSession::positions() const {
     return deformation_ ? deformation_->positions() : doc_.file.mesh.positions;
+}
+
+std::optional<SurfaceHit> EditorSession::pick_surface(const Ray& ray) const {
+    return picker_.pick(ray, positions(), triangles(), mesh_revision_, positions_revision_);
 }
 
 std::vector<std::string> EditorSession::warnings() const {
@@ -588,6 +593,7 @@ void EditorSession::apply_edit(const Edit& edit, bool forward) {
         curve_changed();
     } else if (const auto* b = std::get_if<BakeChange>(&edit)) {
         doc_.file.mesh.positions = forward ? b->after : b->before;
+        ++positions_revision_;
         doc_.baked = forward ? true : b->baked_before;
         doc_.region = forward ? b->region_after : b->region_before;
         doc_.curve = forward ? b->curve_after : b->curve_before;

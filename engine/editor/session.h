@@ -17,6 +17,7 @@
 
 #include "editor/edit_history.h"
 #include "editor/live_deformation.h"
+#include "editor/picking.h"
 #include "io/mesh_file.h"
 #include "region/boundary_cut.h"
 
@@ -125,10 +126,16 @@ public:
     const std::string& mesh_name() const { return doc_.scene.mesh; }
     double diagonal() const { return diagonal_; }
     const LiveDeformation* deformation() const { return deformation_.get(); }
+    // The surface under a ray at positions(): the editors' one way to pick it
+    // (a SurfacePicker following mesh_revision() and positions_revision()).
+    std::optional<SurfaceHit> pick_surface(const Ray& ray) const;
     // Bumped whenever positions() or s() change (the view re-uploads), when the
     // mesh is replaced (new triangles), and when the curve changes.
     std::uint64_t revision() const { return revision_; }
     std::uint64_t mesh_revision() const { return mesh_revision_; }
+    // Bumped whenever positions() may change: steps taken, back to the base
+    // positions, new base positions (not when only s() changes).
+    std::uint64_t positions_revision() const { return positions_revision_; }
     std::uint64_t curve_revision() const { return curve_revision_; }
     // Bumped whenever what save_scene() writes changes: the mesh or its base
     // positions, the region, the curve or the target time (not while time advances).
@@ -190,6 +197,8 @@ private:
     double target_ = 0.0;
     SessionStats stats_;
     std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1, document_revision_ = 1;
+    std::uint64_t positions_revision_ = 1;
+    mutable SurfacePicker picker_;
 };
 
 }  // namespace vfsd::editor

@@ -54,7 +54,7 @@ bool ToolController::press(EditorSession& session, const Camera& camera, const V
                            double y) {
     message.clear();
     if (tool == Tool::navigate) return press_navigate(session, camera, viewport, x, y);
-    const auto hit = pick_surface(camera.ray(x, y, viewport), session.positions(), session.triangles());
+    const auto hit = session.pick_surface(camera.ray(x, y, viewport));
     if (!hit) return false;
     try {
         return press_on_surface(session, camera, viewport, *hit, x, y);
@@ -186,7 +186,7 @@ void ToolController::drag(EditorSession& session, const Camera& camera, const Vi
         } else if (active_ == Active::gizmo) {
             drag_gizmo(session, camera, viewport, x, y);
         } else if (active_ == Active::stroke) {
-            const auto hit = pick_surface(camera.ray(x, y, viewport), session.positions(), session.triangles());
+            const auto hit = session.pick_surface(camera.ray(x, y, viewport));
             if (hit) dab(session, *hit);
         }
     } catch (const std::exception& e) {
