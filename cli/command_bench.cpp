@@ -1,4 +1,5 @@
 // vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N]
+// (vfsd bench --picking: command_bench_picking.cpp)
 //
 // Reproduces the paper's timing table (sec. 7.1) with our models: per mesh,
 // a bending deformation of 250 RK4 steps with 10 smoothing steps, timed per
@@ -77,11 +78,6 @@ void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurv
     c0[a] = lo + length;
     const double r = 0.5 * length;
     curve = BezierCurve({c0, c0 + 0.3 * r * axis, c0 + 0.55 * r * axis + 0.15 * r * side, c0 + 0.7 * r * axis + 0.35 * r * side});
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
 // Half the spread between the 10th and 90th percentile, relative to the median.
@@ -185,7 +181,13 @@ std::string data_lines(const std::vector<Result>& results) {
 
 }  // namespace
 
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
 int run_bench(const Args& args) {
+    if (args.has("picking")) return run_picking_bench(args);
     args.expect({"quick", "only", "markdown", "data", "steps", "repeat", "no-gpu"}, 0, 0);
     const bool quick = args.has("quick");
     const int steps = static_cast<int>(args.get_number("steps", quick ? 10 : 250));

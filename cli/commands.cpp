@@ -41,13 +41,19 @@ const std::vector<Command>& commands() {
          run_render},
         {"bench", "time the deformation per step on the paper's models and larger meshes",
          "usage: vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--no-gpu]\n"
+         "       vfsd bench --picking [--mesh SPEC] [--rays N]\n"
          "\n"
          "Per mesh: a 45-degree bend of 250 RK4 steps (10 smoothing steps each), ms per step\n"
          "(median and spread over --repeat runs) on one thread and on all, the GPU backend\n"
          "when a headless context can be made, volume error, flipped triangles and the\n"
          "deformation state's bytes per vertex. --quick runs two small meshes for a few\n"
          "steps (CI). --only runs the models whose name contains TEXT. scripts/bench runs\n"
-         "the full set and writes docs/benchmarks.md.\n",
+         "the full set and writes docs/benchmarks.md.\n"
+         "\n"
+         "vfsd bench --picking [--mesh SPEC] [--rays N] times picking the surface under a\n"
+         "ray instead: building and refitting the bounding volume hierarchy, a pick\n"
+         "through it (median over N rays, default 1000) and the loop over all triangles it\n"
+         "replaces, on builtin:cylinder:707 (1M vertices) unless --mesh says otherwise.\n",
          run_bench},
     };
     return list;

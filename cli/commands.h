@@ -52,5 +52,9 @@ int run_convert(const Args& args);
 int run_deform(const Args& args);
 int run_render(const Args& args);
 int run_bench(const Args& args);
+int run_picking_bench(const Args& args);  // vfsd bench --picking
+
+// The middle value (the upper one of an even count); 0 for none.
+double median(std::vector<double> values);
 
 }  // namespace vfsd::cli

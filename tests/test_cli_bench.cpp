@@ -1,5 +1,5 @@
 // `vfsd bench --quick` runs end to end and writes one data line per model with
-// positive timings and a volume error it measured.
+// positive timings and a volume error it measured; `vfsd bench --picking` runs.
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
@@ -32,4 +32,10 @@ TEST_CASE("vfsd bench --quick writes its table and data", "[bench][cli]") {
     std::stringstream text;
     text << table.rdbuf();
     CHECK(text.str().find("| box |") != std::string::npos);
+}
+
+TEST_CASE("vfsd bench --picking runs and its hierarchy agrees with the loop", "[bench][cli]") {
+    // Exit 0 only when every sampled pick through the hierarchy equals the loop's.
+    const std::string command = std::string("'") + VFSD_CLI_PATH + "' bench --picking --mesh builtin:sphere:4 --rays 200 >/dev/null";
+    CHECK(std::system(command.c_str()) == 0);
 }
