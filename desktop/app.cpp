@@ -1,6 +1,7 @@
 #include "desktop/app.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -198,6 +199,38 @@ void App::draw_restore_offer() {
 
 void App::screenshot(const std::string& path, bool ui) { pending_screenshot_ = std::make_pair(path, ui); }
 
+// ---- scripted orbits: pointer and frame times -------------------------------------
+
+void App::point_at(double x, double y) { scripted_pointer_ = std::make_pair(x, y); }
+
+void App::log_frame_times(int frames) {
+    frames_to_log_ = frames;
+    logged_frames_.clear();
+}
+
+void App::log_frame(const FrameTimes& t) {
+    char line[160];
+    std::snprintf(line, sizeof line, "frame %zu: app %.2f ms, GL calls %.2f ms, swap %.2f ms, whole %.2f ms",
+                  logged_frames_.size() + 1, t.app_ms, t.draw_ms, t.swap_ms, t.app_ms + t.draw_ms + t.swap_ms);
+    log(line);
+    logged_frames_.push_back(t);
+    if (--frames_to_log_ > 0) return;
+    // The medians over the logged frames.
+    const auto median_of = [&](double FrameTimes::*part) {
+        std::vector<double> v;
+        for (const FrameTimes& f : logged_frames_) v.push_back(f.*part);
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+    };
+    std::vector<double> whole;
+    for (const FrameTimes& f : logged_frames_) whole.push_back(f.app_ms + f.draw_ms + f.swap_ms);
+    std::sort(whole.begin(), whole.end());
+    std::snprintf(line, sizeof line, "frames: %zu, median app %.2f ms, GL calls %.2f ms, swap %.2f ms, whole %.2f ms",
+                  logged_frames_.size(), median_of(&FrameTimes::app_ms), median_of(&FrameTimes::draw_ms),
+                  median_of(&FrameTimes::swap_ms), whole[whole.size() / 2]);
+    log(line);
+}
+
 void App::save_screenshot(const std::string& path) const {
     const editor::Viewport v = viewport();
     std::vector<std::uint8_t> pixels(std::size_t(v.width) * v.height * 4), flipped(pixels.size());
@@ -371,10 +404,19 @@ void App::draw_gizmo(ImDrawList* draw, float scale) {
 }
 
 int App::run() {
+    using Clock = std::chrono::steady_clock;
+    const auto elapsed_ms = [](Clock::time_point from, Clock::time_point to) {
+        return std::chrono::duration<double, std::milli>(to - from).count();
+    };
     while (!glfwWindowShouldClose(window_)) {
+        const Clock::time_point start = Clock::now();
         glfwPollEvents();
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
+        if (scripted_pointer_) {
+            const float scale = float(ImGui::GetIO().DisplaySize.x / viewport().width);
+            ImGui::GetIO().MousePos = ImVec2(float(scripted_pointer_->first) * scale, float(scripted_pointer_->second) * scale);
+        }
         ImGui::NewFrame();
 
         handle_input();
@@ -395,6 +437,7 @@ int App::run() {
         draw_restore_offer();
         draw_overlay();
         ImGui::Render();
+        const Clock::time_point drawing = Clock::now();
         draw_scene();
         const bool ui = !pending_screenshot_ || pending_screenshot_->second;
         if (ui && show_ui_) ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -409,7 +452,9 @@ int App::run() {
             pending_screenshot_.reset();
             if (script_ && script_->done() && options_.exit_after_script) break;
         }
+        const Clock::time_point swapping = Clock::now();
         glfwSwapBuffers(window_);
+        if (frames_to_log_ > 0) log_frame({elapsed_ms(start, drawing), elapsed_ms(drawing, swapping), elapsed_ms(swapping, Clock::now())});
     }
     // A clean exit: the autosave goes, unless its offer was never answered.
     if (!autosave_.offer()) autosave_.clear();

@@ -44,6 +44,8 @@ public:
     void autosave_now() override;
     void answer_restore(bool restore) override;
     void simulate_crash() override;
+    void point_at(double x, double y) override;
+    void log_frame_times(int frames) override;
 
     // Called by GLFW's callbacks.
     void on_drop(const std::string& path);
@@ -85,6 +87,18 @@ private:
     std::deque<std::string> recent_;
     std::string status_, load_error_;
     std::optional<std::pair<std::string, bool>> pending_screenshot_;
+
+    // Scripted orbits: the pointer a script placed (viewport pixels), and the
+    // frames still to log with the times of those logged so far.
+    struct FrameTimes {
+        double app_ms = 0.0;   // input, script, deformation steps, panels, overlay (the hover pick)
+        double draw_ms = 0.0;  // issuing the scene's and the panels' GL calls (the driver's vertex work included)
+        double swap_ms = 0.0;  // glfwSwapBuffers: the driver finishing the frame
+    };
+    void log_frame(const FrameTimes& times);
+    std::optional<std::pair<double, double>> scripted_pointer_;
+    int frames_to_log_ = 0;
+    std::vector<FrameTimes> logged_frames_;
 };
 
 }  // namespace vfsd::desktop

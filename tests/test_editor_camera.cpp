@@ -1,11 +1,15 @@
 // The editor's camera and picking: a pixel's ray meets what is drawn at that pixel,
 // zoom keeps the point under the cursor, drags land under the cursor, and the
-// session's picker agrees with the plain loop as the mesh deforms.
+// session's picker agrees with the plain loop as the mesh deforms, a scripted
+// orbit turns the camera.
 
 #include <catch2/catch.hpp>
 
+#include <glm/trigonometric.hpp>
+
 #include "editor/camera.h"
 #include "editor/picking.h"
+#include "editor/script.h"
 #include "editor/session.h"
 #include "io/mesh_file.h"
 
@@ -163,4 +167,41 @@ TEST_CASE("Picking: painting moves no vertex, so the positions' revision stays",
     brush.tool = BrushTool::paint_outer;
     session.brush(surface_point_at_vertex(session.triangles(), session.positions().size(), 0), brush);
     CHECK(session.positions_revision() == before);
+}
+
+namespace {
+
+// Records what an orbit asks of the editor.
+class OrbitHost final : public ScriptHost {
+public:
+    std::optional<glm::dvec2> pointer;
+    int frames_to_log = 0;
+    void screenshot(const std::string&, bool) override {}
+    void loaded() override {}
+    void log(const std::string&) override {}
+    void point_at(double x, double y) override { pointer = glm::dvec2(x, y); }
+    void log_frame_times(int frames) override { frames_to_log = frames; }
+};
+
+}  // namespace
+
+TEST_CASE("Scripts: an orbit turns the camera over its frames, a tool action picks the tool", "[editor][camera]") {
+    EditorSession session;
+    session.open_mesh("builtin:box");
+    ToolController tools;
+    Camera camera;
+    const Camera start = camera;
+    OrbitHost host;
+    ScriptRunner script(parse_script("{\"action\": \"tool\", \"name\": \"inner\"}\n"
+                                     "{\"action\": \"orbit\", \"degrees\": [90, -10], \"frames\": 4, \"pointer\": [300, 200]}\n",
+                                     "orbit"));
+    int frames = 0;
+    while (script.run_frame(session, tools, camera, Viewport{640, 480}, host)) ++frames;
+    REQUIRE_FALSE(script.failed());
+    CHECK(frames == 4);  // four turning frames; the action ends on the fifth
+    CHECK(tools.tool == Tool::paint_inner);
+    CHECK(host.pointer == glm::dvec2(300, 200));
+    CHECK(host.frames_to_log == 4);
+    CHECK(camera.yaw - start.yaw == Approx(glm::radians(90.0)));
+    CHECK(camera.pitch - start.pitch == Approx(glm::radians(-10.0)));
 }

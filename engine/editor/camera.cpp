@@ -37,8 +37,8 @@ glm::dmat4 Camera::projection(double aspect) const {
 }
 
 void Camera::orbit(double dx, double dy) {
-    yaw -= 0.01 * dx;
-    pitch = std::clamp(pitch + 0.01 * dy, -kPitchLimit, kPitchLimit);
+    yaw -= kOrbitRadiansPerPixel * dx;
+    pitch = std::clamp(pitch + kOrbitRadiansPerPixel * dy, -kPitchLimit, kPitchLimit);
 }
 
 void Camera::pan(double dx, double dy, const Viewport& viewport) {

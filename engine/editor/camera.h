@@ -21,6 +21,9 @@ struct Viewport {
 
 enum class StandardView { front, back, left, right, top, bottom, iso };
 
+// Camera::orbit turns this far per pixel the pointer moves.
+inline constexpr double kOrbitRadiansPerPixel = 0.01;
+
 class Camera {
 public:
     Vec3 target{0.0};
@@ -40,7 +43,7 @@ public:
     glm::dmat4 view() const;
     glm::dmat4 projection(double aspect) const;
 
-    // Rotates about the target by pixel deltas (0.01 rad per pixel); pitch stays
+    // Rotates about the target by pixel deltas (kOrbitRadiansPerPixel); pitch stays
     // short of the poles.
     void orbit(double dx, double dy);
     // Moves target and eye so the point under the cursor follows it (pixel deltas).

@@ -17,11 +17,13 @@ using nlohmann::json;
 // A wait gives up after this many frames (the deformation stalled).
 constexpr int kMaxWaitFrames = 200000;
 
-glm::dvec2 pixel(const json& v, const std::string& what) {
+glm::dvec2 two_numbers(const json& v, const std::string& what, const char* expected) {
     if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
-        throw InputError(what + ": expected [x, y] in pixels");
+        throw InputError(what + ": expected " + expected);
     return {v[0].get<double>(), v[1].get<double>()};
 }
+
+glm::dvec2 pixel(const json& v, const std::string& what) { return two_numbers(v, what, "[x, y] in pixels"); }
 
 std::vector<glm::dvec2> pixels(const json& v, const std::string& what) {
     if (!v.is_array() || v.empty()) throw InputError(what + ": expected a list of [x, y]");
@@ -59,6 +61,34 @@ Tool paint_tool(const std::string& name) {
     if (name == "erase") return Tool::erase;
     if (name == "s") return Tool::paint_s;
     throw InputError("tool: expected inner, outer, erase or s, not '" + name + "'");
+}
+
+// Any tool: the brushes by paint_tool's names, the others by tool_name's.
+Tool any_tool(const std::string& name) {
+    for (Tool t : kAllTools)
+        if (name == tool_name(t)) return t;
+    return paint_tool(name);
+}
+
+// One frame of an orbit: the camera turns by 1/frames of "degrees" (yaw, pitch);
+// false until it has turned all the way. The first frame places the pointer and
+// starts the host's frame log; the action ends on the frame after the last turn,
+// so the host has logged every turning frame whole.
+bool orbit_frame(const ScriptAction& a, int frame, Camera& camera, ScriptHost& host) {
+    const int frames = static_cast<int>(number(a, "frames"));
+    if (frames < 1) throw InputError("frames: expected at least 1");
+    const glm::dvec2 degrees = two_numbers(a.args.value("degrees", json()), "degrees", "[yaw, pitch] in degrees");
+    if (frame == 0) {
+        if (a.args.contains("pointer")) {
+            const glm::dvec2 p = pixel(a.args["pointer"], "pointer");
+            host.point_at(p.x, p.y);
+        }
+        host.log_frame_times(frames);
+    }
+    if (frame >= frames) return true;
+    const glm::dvec2 step = glm::radians(degrees) / (kOrbitRadiansPerPixel * frames);
+    camera.orbit(-step.x, step.y);
+    return false;
 }
 
 // The pointer's path for a gizmo drag from `grab`: to a pixel ("to"), by an offset
@@ -118,6 +148,8 @@ void place_handle_at(glm::dvec2 at, EditorSession& session, ToolController& tool
 void ScriptHost::autosave_now() { throw InputError("this editor keeps no autosave"); }
 void ScriptHost::answer_restore(bool) { throw InputError("this editor keeps no autosave"); }
 void ScriptHost::simulate_crash() { throw InputError("this editor cannot simulate a crash"); }
+void ScriptHost::point_at(double, double) {}
+void ScriptHost::log_frame_times(int) {}
 
 std::vector<ScriptAction> parse_script(const std::string& source_text, const std::string& source) {
     std::vector<ScriptAction> actions;
@@ -305,6 +337,10 @@ bool ScriptRunner::execute(const ScriptAction& a, EditorSession& session, ToolCo
         else if (name == "bottom") camera.set_view(StandardView::bottom);
         else if (name == "iso") camera.set_view(StandardView::iso);
         else throw InputError("name: unknown view '" + name + "'");
+    } else if (n == "orbit") {
+        return orbit_frame(a, waited_frames_, camera, host);
+    } else if (n == "tool") {
+        tools.tool = any_tool(text(a, "name"));
     } else if (n == "export") {
         session.export_mesh(text(a, "path"));
     } else if (n == "save-scene") {

@@ -21,6 +21,10 @@
 //   {"action": "play"} {"action": "pause"} {"action": "reset"} {"action": "apply"}
 //   {"action": "undo"} {"action": "redo"}
 //   {"action": "view", "name": "front"|"back"|"left"|"right"|"top"|"bottom"|"iso"|"frame"}
+//   {"action": "orbit", "degrees": [yaw, pitch], "frames": n, optional "pointer": [x, y]}
+//                      (turns the camera over n frames as a pointer drag would, the
+//                      hovering pointer at [x, y]; the editor logs each frame's times)
+//   {"action": "tool", "name": "navigate"|"geodesic"|"inner"|"outer"|"erase"|"s"|"loops"|"handle"}
 //   {"action": "export", "path": P} {"action": "save-scene", "path": P}
 //   {"action": "screenshot", "path": P, optional "ui": false}
 //   {"action": "wait-frames", "n": n}
@@ -64,6 +68,11 @@ public:
     virtual void autosave_now();
     virtual void answer_restore(bool restore);
     virtual void simulate_crash();
+    // An orbit under way: the pointer hovers at viewport pixel (x, y) from the next
+    // frame on, and the editor logs the times of the next `frames` frames. Editors
+    // without a pointer or a frame clock ignore them.
+    virtual void point_at(double x, double y);
+    virtual void log_frame_times(int frames);
 };
 
 class ScriptRunner {
