@@ -84,7 +84,7 @@ void consider_axis(const std::vector<BvhBox>& boxes, const std::uint32_t* begin,
     std::uint32_t left_count = 0;
     for (int k = 0; k + 1 < kBins; ++k) {
         left.add(bin_box[k]), left_count += bin_count[k];
-        if (left_count == 0 || left_count == end - begin) continue;
+        if (left_count == 0 || left_count == static_cast<std::uint32_t>(end - begin)) continue;
         const float cost = left.half_area() * float(left_count) + right_cost[k + 1];
         if (cost < best.cost) best = {binning, k, cost};
     }
