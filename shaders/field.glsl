@@ -5,7 +5,7 @@ struct Motion {
     vec3 velocity;          // ċ(t)
     vec3 angular_velocity;  // ω(t), zero in translation mode
     vec3 twist;             // τ(t) = α̇(t) ĉ(t)
-    float twist_plane;      // where the twist's plane ẽ = 0 lies along ĉ, from c(t)
+    vec3 twist_origin;      // where the twist's plane ẽ = 0 crosses its axis: c(t) + ζ0 ĉ(t)
     vec3 stream_origin;     // o: where e and f are built about (c(t) by default)
 };
 
@@ -23,14 +23,13 @@ float bernstein_blend_derivative(float u) {
 }
 
 // f ∇e − e ∇f of a rotation with angular velocity omega about an axis through
-// the origin of y, its plane e = 0 at `plane` along the axis:
-// ½ |y⊥|² Ω − (Ω·y − |Ω| ζ0) y⊥.
-vec3 rotation_stream(vec3 omega, vec3 y, float plane) {
+// the origin of y, its plane e = 0 through that origin: ½ |y⊥|² Ω − (Ω·y) y⊥.
+vec3 rotation_stream(vec3 omega, vec3 y) {
     float omega2 = dot(omega, omega);
     if (omega2 == 0.0) return vec3(0.0);
     float along = dot(omega, y);
     vec3 y_perp = y - (along / omega2) * omega;
-    return 0.5 * dot(y_perp, y_perp) * omega - (along - sqrt(omega2) * plane) * y_perp;
+    return 0.5 * dot(y_perp, y_perp) * omega - along * y_perp;
 }
 
 // Rigid velocity of the inner region: ∇e × ∇f (+ ∇ẽ × ∇f̃).
@@ -40,12 +39,11 @@ vec3 inner_velocity(Motion m, vec3 x) {
 
 // f ∇e − e ∇f (+ f̃ ∇ẽ − ẽ ∇f̃): translation (eqs. 9–10) with U = ċ + ω × (o − c),
 // the velocity at the stream's origin o, and rotation (eqs. 11–13) about o; twist
-// (eq. 14) about c with its plane at m.twist_plane.
+// (eq. 14) about the axis through c, its plane through m.twist_origin.
 vec3 stream_vector(Motion m, vec3 x) {
     vec3 z = x - m.stream_origin;
     vec3 u = m.velocity + cross(m.angular_velocity, m.stream_origin - m.position);
-    return cross(z, u) + rotation_stream(m.angular_velocity, z, 0.0) +
-           rotation_stream(m.twist, x - m.position, m.twist_plane);
+    return cross(z, u) + rotation_stream(m.angular_velocity, z) + rotation_stream(m.twist, x - m.twist_origin);
 }
 
 // v + ṽ = (1 − b)² ∇e × ∇f − (1 − b) (f ∇e − e ∇f) × ∇b   (eqs. 1–3)

@@ -19,6 +19,11 @@ constexpr double kLimitOffset = 1e-6;
 // smoothly into translation, with no curvature centre at infinity ever formed.
 Vec3 angular_velocity(const CurvePoint& c) { return glm::cross(c.d1, c.d2) / glm::dot(c.d1, c.d1); }
 
+Vec3 unit_or_zero(const Vec3& v) {
+    const double length = glm::length(v);
+    return length > 0.0 ? v / length : Vec3(0.0);
+}
+
 }  // namespace
 
 InnerMotion InnerMotion::along_curve(BezierCurve curve, InnerMotionMode mode, double alpha0, double alpha1) {
@@ -45,6 +50,7 @@ MotionSample InnerMotion::at(double t) const {
         s.position = centre_;
         s.angular_velocity = axis_angle_;
         s.stream_origin = stream_origin_.value_or(centre_);
+        s.twist_origin = centre_;
         return s;
     }
     MotionSample s = curve_sample(t);
@@ -53,10 +59,19 @@ MotionSample InnerMotion::at(double t) const {
     // ċ vanishes at t: take ω and the tangent direction from just beside t, where
     // the motion heads (after t, or before it at the curve's end).
     const double side = t + kLimitOffset <= 1.0 ? t + kLimitOffset : t - kLimitOffset;
-    MotionSample beside = curve_sample(side);
+    const MotionSample beside = curve_sample(side);
     s.angular_velocity = beside.angular_velocity;
     s.twist = beside.twist;
+    s.twist_origin = s.position + twist_plane_ * unit_or_zero(beside.velocity);
     return s;
+}
+
+Vec3 InnerMotion::start_tangent() const {
+    if (fixed_rotation_) return Vec3(0.0);
+    const Vec3 d1 = curve_.at(0.0).d1;
+    const double scale = curve_.polygon_length();
+    if (glm::length(d1) > kStationary * scale || scale == 0.0) return unit_or_zero(d1);
+    return unit_or_zero(curve_.at(kLimitOffset).d1);
 }
 
 MotionSample InnerMotion::curve_sample(double t) const {
@@ -64,6 +79,8 @@ MotionSample InnerMotion::curve_sample(double t) const {
     MotionSample s;
     s.position = c.position;
     s.velocity = c.d1;
+    s.stream_origin = stream_origin_.value_or(c.position);
+    s.twist_origin = c.position;
     const double speed = glm::length(c.d1);
     if (speed == 0.0) return s;
     if (mode_ == InnerMotionMode::Rotation) s.angular_velocity = angular_velocity(c);
@@ -73,8 +90,7 @@ MotionSample InnerMotion::curve_sample(double t) const {
     // region turn by α(1) − α(0); k = α̇ / (2 |ċ|³) does, giving τ = α̇ ĉ.
     const double alpha_rate = alpha1_ - alpha0_;
     s.twist = alpha_rate * (c.d1 / speed);
-    s.twist_plane = twist_plane_;
-    s.stream_origin = stream_origin_.value_or(c.position);
+    s.twist_origin = c.position + twist_plane_ * (c.d1 / speed);
     return s;
 }
 

@@ -25,9 +25,11 @@ struct MotionSample {
     Vec3 velocity{0.0};          // ċ(t)
     Vec3 angular_velocity{0.0};  // ω(t), zero in translation mode
     Vec3 twist{0.0};             // τ(t) = α̇(t) ĉ(t)
-    // Where the twist's plane ẽ = 0 lies along ĉ, as a signed distance from c(t).
-    // Eq. (14) puts it through c (0); see InnerMotion::set_twist_plane.
-    double twist_plane = 0.0;
+    // The point about which the twist's stream is built: on the axis c + λ ĉ, where
+    // its plane ẽ = 0 crosses it, c(t) + ζ0 ĉ(t). Eq. (14) puts it at c (ζ0 = 0);
+    // see InnerMotion::set_twist_plane. A point, so that it turns and mirrors with
+    // the scene whatever the twist's sign.
+    Vec3 twist_origin{0.0};
     // Where the zero sets of e and f meet, i.e. the point about which the stream
     // f ∇e − e ∇f of translation and rotation is expanded. Eq. (10) puts it at c(t);
     // see InnerMotion::set_stream_origin.
@@ -69,6 +71,10 @@ public:
 
     InnerMotionMode mode() const { return mode_; }
     const BezierCurve& curve() const { return curve_; }
+    // The unit direction the inner region leaves c(0) in: ċ(0), or just after 0
+    // where ċ(0) vanishes (a zero-length end tangent); 0 for a fixed rotation or a
+    // curve that does not move.
+    Vec3 start_tangent() const;
     bool is_fixed_rotation() const { return fixed_rotation_; }
     double alpha0() const { return alpha0_; }
     double alpha1() const { return alpha1_; }

@@ -23,7 +23,7 @@ struct Lanes3 {
 struct PreparedMotion {
     double c[3], v[3], w[3];                      // c(t), ċ(t), ω + τ
     double omega[3], omega_inv2;                  // ω, 1/|ω|² (0 where ω = 0)
-    double twist[3], twist_inv2, twist_shift;     // τ, 1/|τ|², |τ| times the twist plane
+    double twist[3], twist_inv2, twist_origin[3]; // τ, 1/|τ|², the twist stream's origin
     double o[3], u[3];                            // the stream's origin o, U = ċ + ω × (o − c)
     explicit PreparedMotion(const MotionSample& m);
 };

@@ -6,17 +6,16 @@ namespace vfsd {
 namespace {
 
 // f ∇e − e ∇f for the rotation fields about an axis through the origin of y with
-// angular velocity Ω. With e = λ (â·y − ζ0), f = λ² |y⊥|² and 2λ³ = |Ω| (so that
-// ∇e × ∇f = Ω × y, eq. 5 scaled):  f ∇e − e ∇f = ½ |y⊥|² Ω − (Ω·y − |Ω| ζ0) y⊥,
-// y⊥ being the part of y perpendicular to Ω and ζ0 where the plane e = 0 lies
-// along the axis.
-Vec3 rotation_stream(const Vec3& omega, const Vec3& y, double plane = 0.0) {
+// angular velocity Ω. With e = λ â·y, f = λ² |y⊥|² and 2λ³ = |Ω| (so that
+// ∇e × ∇f = Ω × y, eq. 5 scaled):  f ∇e − e ∇f = ½ |y⊥|² Ω − (Ω·y) y⊥,
+// y⊥ being the part of y perpendicular to Ω; the plane e = 0 passes through
+// the origin of y.
+Vec3 rotation_stream(const Vec3& omega, const Vec3& y) {
     const double omega2 = glm::dot(omega, omega);
     if (omega2 == 0.0) return Vec3(0.0);
     const double along = glm::dot(omega, y);  // |Ω| times y's coordinate along the axis
     const Vec3 y_perp = y - (along / omega2) * omega;
-    const double shift = plane == 0.0 ? 0.0 : std::sqrt(omega2) * plane;
-    return 0.5 * glm::dot(y_perp, y_perp) * omega - (along - shift) * y_perp;
+    return 0.5 * glm::dot(y_perp, y_perp) * omega - along * y_perp;
 }
 
 }  // namespace
@@ -47,10 +46,10 @@ Vec3 stream_vector(const MotionSample& m, const Vec3& x) {
     // o = c: the curvature-centre terms cancel to z × U plus a rotation stream about
     // the axis through o, U = ċ + ω × (o − c) being the velocity at o (U = ċ at the
     // default o = c). The twist, eq. (14), is a rotation stream about the axis
-    // through c, its plane ẽ = 0 at m.twist_plane along ĉ (as printed: 0, through c).
+    // c + λ ĉ, its plane ẽ = 0 through m.twist_origin (as printed: through c).
     const Vec3 z = x - m.stream_origin;
     return glm::cross(z, origin_velocity(m)) + rotation_stream(m.angular_velocity, z) +
-           rotation_stream(m.twist, x - m.position, m.twist_plane);
+           rotation_stream(m.twist, x - m.twist_origin);
 }
 
 Vec3 deformation_velocity(const MotionSample& m, const Vec3& x, double b, const Vec3& grad_b) {

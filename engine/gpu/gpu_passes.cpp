@@ -39,7 +39,7 @@ void set_motion(const Program& p, const std::string& name, const MotionSample& m
     set3("angular_velocity", m.angular_velocity);
     set3("twist", m.twist);
     set3("stream_origin", m.stream_origin);
-    p.set((name + ".twist_plane").c_str(), static_cast<float>(m.twist_plane));
+    set3("twist_origin", m.twist_origin);
 }
 
 }  // namespace

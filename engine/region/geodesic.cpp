@@ -119,41 +119,73 @@ double triangle_update(const Vec3& c, const Vec3& a, double da, const Vec3& b, d
     const Vec3 u = e / len;
     const double cx = glm::dot(c - a, u), cy = glm::length((c - a) - cx * u);
     const double sx = (da * da - db * db + len * len) / (2.0 * len);
+    // The checks below meet their limits exactly on regular meshes (a source on
+    // the edge's line, a ray through a corner, c level with a known corner), where
+    // the update equals the edge update or a known distance; a tolerance keeps
+    // rounding from choosing, so that the same mesh turned or moved gets the same
+    // distances.
+    const double tolerance = 1e-9;
     const double sy2 = da * da - sx * sx;
-    if (sy2 < 0.0 || cy <= 0.0) return kInf;
-    const double sy = -std::sqrt(sy2);
+    if (sy2 < -tolerance * len * len || cy <= 0.0) return kInf;
+    const double sy = -std::sqrt(std::max(sy2, 0.0));
     const double x = sx + (cx - sx) * (-sy) / (cy - sy);  // the ray meets the edge line here
-    if (x < 0.0 || x > len) return kInf;
-    const double d = std::hypot(cx - sx, cy - sy);
-    return d > std::max(da, db) ? d : kInf;
+    if (x < -tolerance * len || x > (1.0 + tolerance) * len) return kInf;
+    const double d = std::hypot(cx - sx, cy - sy), known = std::max(da, db);
+    return d >= known - tolerance * len ? std::max(d, known) : kInf;
 }
 
-void relax(std::uint32_t v, double d, std::vector<double>& dist, MinHeap& heap) {
-    if (d < dist[v]) {
-        dist[v] = d;
-        heap.push({d, v});
+// Fast marching fixes each vertex from the neighbours accepted before it, so the
+// order of acceptance shapes the result. Where two fronts arrive together (ties,
+// common on regular meshes) plain distance order leaves it to rounding error, and
+// the same mesh turned or mirrored would get other distances. Here distances
+// within a quantum (1e-9 of the mean edge length) count as equal and the lower
+// vertex index goes first: an order that does not depend on where the mesh lies.
+struct MarchEntry {
+    double quantised;  // distance / quantum, rounded down
+    double distance;
+    std::uint32_t vertex;
+    bool operator>(const MarchEntry& o) const {
+        return quantised != o.quantised ? quantised > o.quantised : vertex > o.vertex;
     }
+};
+
+double mean_edge_length(const std::vector<Vec3>& p, const VertexRings& rings) {
+    double sum = 0.0;
+    for (std::uint32_t v = 0; v < rings.vertex_count(); ++v)
+        for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) sum += glm::length(p[rings.neighbours[i]] - p[v]);
+    return rings.neighbours.empty() ? 0.0 : sum / double(rings.neighbours.size());
 }
 
 void run_fast_marching(const std::vector<Vec3>& p, const VertexRings& rings, double max_distance,
                        std::vector<double>& dist) {
+    const double quantum = 1e-9 * mean_edge_length(p, rings);
+    const auto entry = [&](double d, std::uint32_t v) {
+        return MarchEntry{quantum > 0.0 ? std::floor(d / quantum) : d, d, v};
+    };
     std::vector<std::uint8_t> accepted(dist.size(), 0);
-    MinHeap heap;
-    push_seeds(dist, heap);
+    std::priority_queue<MarchEntry, std::vector<MarchEntry>, std::greater<MarchEntry>> heap;
+    for (std::uint32_t v = 0; v < dist.size(); ++v)
+        if (dist[v] < kInf) heap.push(entry(dist[v], v));
+    const auto relax = [&](std::uint32_t v, double d) {
+        if (d < dist[v]) {
+            dist[v] = d;
+            heap.push(entry(d, v));
+        }
+    };
     while (!heap.empty()) {
-        const HeapEntry top = heap.top();
+        const MarchEntry top = heap.top();
         heap.pop();
         const std::uint32_t v = top.vertex;
         if (accepted[v] || top.distance > dist[v] || top.distance > max_distance) continue;
         accepted[v] = 1;
         for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
             const std::uint32_t a = rings.neighbours[i];
-            if (!accepted[a]) relax(a, dist[v] + glm::length(p[a] - p[v]), dist, heap);  // edge update
+            if (!accepted[a]) relax(a, dist[v] + glm::length(p[a] - p[v]));  // edge update
             if (!rings.wedge[i]) continue;
             // Triangle (v, a, b): update the one corner not yet accepted from the other two.
             const std::uint32_t b = rings.neighbours[rings.next(v, i)];
-            if (!accepted[a] && accepted[b]) relax(a, triangle_update(p[a], p[v], dist[v], p[b], dist[b]), dist, heap);
-            if (!accepted[b] && accepted[a]) relax(b, triangle_update(p[b], p[v], dist[v], p[a], dist[a]), dist, heap);
+            if (!accepted[a] && accepted[b]) relax(a, triangle_update(p[a], p[v], dist[v], p[b], dist[b]));
+            if (!accepted[b] && accepted[a]) relax(b, triangle_update(p[b], p[v], dist[v], p[a], dist[a]));
         }
     }
 }

@@ -20,14 +20,14 @@ std::vector<double> sphere_tool_field(const SphereTool& tool, const std::vector<
 
 // The far end of the moving part (s < 1) along the curve's start tangent, as a
 // signed distance from c(0): where the twist's plane ẽ = 0 goes by default.
+// A zero start tangent (eq. 17 with the handle moved along its own plane) takes
+// the direction just after t = 0, where the motion heads.
 double far_end_of_moving_part(const InnerMotion& motion, const std::vector<Vec3>& positions, const std::vector<double>& s) {
-    const CurvePoint c = motion.curve().at(0.0);
-    const double speed = glm::length(c.d1);
-    if (speed == 0.0) return 0.0;
-    const Vec3 tangent = c.d1 / speed;
+    const Vec3 start = motion.curve().at(0.0).position;
+    const Vec3 tangent = motion.start_tangent();
     double far = 0.0;
     for (std::size_t v = 0; v < positions.size(); ++v)
-        if (s[v] < 1.0) far = std::min(far, glm::dot(positions[v] - c.position, tangent));
+        if (s[v] < 1.0) far = std::min(far, glm::dot(positions[v] - start, tangent));
     return far;
 }
 

@@ -1,0 +1,162 @@
+// The method has no preferred place, orientation, size or handedness: every
+// quantity of eqs. (1)–(17) is built from the curve, the handle frames and s,
+// which move with the scene. So a scene placed elsewhere (turned, moved 100
+// diagonals from the origin, scaled, mirrored with its twists negated) must
+// deform into the placed result. Checked over every region kind, both inner
+// motions, twists of both signs, a zero end tangent, handles and the pure
+// handle rotation.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "io/mesh_file.h"
+#include "mesh/geometry.h"
+#include "scene/prepared_scene.h"
+#include "scene/scene_transform.h"
+
+using namespace vfsd;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The built-in box (1 x 1 x 1.2, z in [-0.6, 0.6]) with its inner region on top.
+Scene box_scene(RegionSpec::Kind region_kind, int variant, const MeshFile& file) {
+    Scene scene;
+    scene.mesh = "builtin:box:6";
+    scene.options.steps = 40;
+    RegionSpec& r = scene.region;
+    r.kind = region_kind;
+    switch (region_kind) {
+        case RegionSpec::Kind::field:
+            for (const Vec3& p : file.mesh.positions) r.s.push_back(std::clamp((0.35 - p.z) / 0.8, 0.0, 1.0));
+            break;
+        case RegionSpec::Kind::geodesic:
+            r.seed = Vec3(0.1, 0.0, 0.6);
+            r.g_min = 0.3, r.g_max = 1.1;
+            break;
+        case RegionSpec::Kind::painted: {
+            Selector inner{SelectorKind::sphere, Vec3(0.0, 0.0, 0.7), Vec3(0.0), 0.45, {}};
+            Selector outer{SelectorKind::halfspace, Vec3(0.0, 0.2, -1.0), Vec3(0.0), 0.31, {}};  // no vertex on its border
+            r.inner = {inner};
+            r.outer = {outer};
+            break;
+        }
+        case RegionSpec::Kind::implicit:
+            r.sphere = SphereTool{Vec3(0.0, 0.0, 0.6), 0.3, 0.9};
+            break;
+    }
+    switch (variant) {
+        case 0:  // a bend with a positive twist, rotation mode
+            scene.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.9}, {0.3, 0.1, 1.2}, {0.7, 0.2, 1.3}};
+            scene.twist_degrees[1] = 90.0;
+            break;
+        case 1:  // translation mode, a negative twist, a zero start tangent
+            scene.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.6}, {0.2, -0.3, 0.9}, {0.4, -0.3, 1.0}};
+            scene.inner_motion = InnerMotionMode::Translation;
+            scene.twist_degrees[0] = 10.0, scene.twist_degrees[1] = -60.0;
+            break;
+        case 2:  // two segments, a fixed stream origin and twist plane
+            scene.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.8}, {0.1, 0, 1.0}, {0.3, 0, 1.0},
+                                  {0.5, 0, 1.0}, {0.6, 0.2, 0.9}, {0.6, 0.4, 0.8}};
+            scene.twist_degrees[1] = -120.0;
+            scene.twist_plane = -0.4;
+            scene.stream_origin = Vec3(0.0, 0.0, 0.3);
+            break;
+        case 3:  // a handle moved and turned (eq. 17)
+            scene.curve.is_handle = true;
+            scene.curve.from = {Vec3(0, 0, 0.6), Vec3(0, 0, 1), Vec3(1, 0, 0)};
+            scene.curve.to = {Vec3(0.3, 0.2, 0.9), glm::normalize(Vec3(0.5, 0, 1)), Vec3(0, 1, 0)};
+            break;
+        default:  // a handle turned in place (eq. 5 about h)
+            scene.curve.is_handle = true;
+            scene.curve.from = {Vec3(0, 0, 0.6), Vec3(0, 0, 1), Vec3(1, 0, 0)};
+            scene.curve.to = {Vec3(0, 0, 0.6), glm::normalize(Vec3(0, 0.6, 1)), Vec3(1, 0, 0)};
+            break;
+    }
+    return scene;
+}
+
+std::vector<Vec3> deform(const Scene& scene, MeshFile file) {
+    const PreparedScene prepared = prepare_scene(scene, std::move(file));
+    Deformation d = prepared.start_deformation();
+    d.advance(1.0);
+    return d.positions();
+}
+
+// Largest distance between the placed result and the placed scene's result, over
+// the diagonal of the placed mesh.
+double placement_error(RegionSpec::Kind kind, int variant, const Placement& placement) {
+    const MeshFile file = load_mesh_file("builtin:box:6");
+    const Scene scene = box_scene(kind, variant, file);
+    const std::vector<Vec3> result = deform(scene, file);
+
+    MeshFile placed_file = file;
+    place_mesh(placed_file.mesh, placement);
+    const std::vector<Vec3> placed_result = deform(place_scene(scene, placement), placed_file);
+
+    double worst = 0.0;
+    for (std::size_t v = 0; v < result.size(); ++v)
+        worst = std::max(worst, glm::length(placement.point(result[v]) - placed_result[v]));
+    return worst / bounding_box(placed_file.mesh.positions).diagonal();
+}
+
+Placement turned(double scale, bool mirror) {
+    Placement p;
+    p.rotation = glm::dmat3(glm::rotate(glm::dmat4(1.0), 2.1, glm::normalize(Vec3(0.3, -0.8, 0.5))));
+    if (mirror) p.rotation = p.rotation * glm::dmat3(-1, 0, 0, 0, 1, 0, 0, 0, 1);
+    p.scale = scale;
+    p.offset = scale * Vec3(-120.0, 95.0, 140.0);  // about 100 diagonals of the placed box away
+    return p;
+}
+
+// The largest placement error over every region kind and motion variant.
+double worst_placement_error(const Placement& placement) {
+    double worst = 0.0;
+    for (const auto kind : {RegionSpec::Kind::field, RegionSpec::Kind::geodesic, RegionSpec::Kind::painted,
+                            RegionSpec::Kind::implicit}) {
+        for (int variant = 0; variant < 5; ++variant) {
+            const double error = placement_error(kind, variant, placement);
+            INFO("region kind " << int(kind) << ", motion variant " << variant);
+            CHECK(error < 1e-6);
+            worst = std::max(worst, error);
+        }
+    }
+    return worst;
+}
+
+}  // namespace
+
+TEST_CASE("a scene turned and moved far from the origin deforms into the moved result", "[invariance]") {
+    CHECK(worst_placement_error(turned(1.0, false)) < 1e-6);
+}
+
+TEST_CASE("a mirrored scene with its twists negated deforms into the mirrored result", "[invariance]") {
+    CHECK(worst_placement_error(turned(1.0, true)) < 1e-6);
+}
+
+TEST_CASE("a scene scaled by 1e-3 or 1e3 deforms into the scaled result", "[invariance]") {
+    for (const double scale : {1e-3, 1e3}) {
+        for (int variant = 0; variant < 5; ++variant) {
+            INFO("scale " << scale << ", motion variant " << variant);
+            CHECK(placement_error(RegionSpec::Kind::geodesic, variant, turned(scale, variant % 2 == 1)) < 1e-6);
+        }
+    }
+}
+
+TEST_CASE("place_scene: a box selector turned off the axes is refused, a mirror negates the twist", "[invariance]") {
+    Scene scene;
+    scene.region.inner = {Selector{SelectorKind::box, Vec3(-1.0), Vec3(1.0), 0.0, {}}};
+    scene.twist_degrees[0] = 5.0, scene.twist_degrees[1] = 30.0;
+    CHECK_THROWS_WITH(place_scene(scene, turned(1.0, false)), Catch::Contains("box selector"));
+    Placement flip;
+    flip.rotation = glm::dmat3(1, 0, 0, 0, -1, 0, 0, 0, 1);
+    const Scene mirrored = place_scene(scene, flip);
+    CHECK(mirrored.twist_degrees[0] == -5.0);
+    CHECK(mirrored.twist_degrees[1] == -30.0);
+    CHECK(mirrored.region.inner[0].a == Vec3(-1.0, -1.0, -1.0));
+    CHECK(mirrored.region.inner[0].b == Vec3(1.0));
+}
