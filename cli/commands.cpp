@@ -55,6 +55,23 @@ const std::vector<Command>& commands() {
          "through it (median over N rays, default 1000) and the loop over all triangles it\n"
          "replaces, on builtin:cylinder:707 (1M vertices) unless --mesh says otherwise.\n",
          run_bench},
+        {"battery", "deform generated scenes nobody tuned and measure folds, volume, rigidity",
+         "usage: vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR | --mesh SPEC] [--coarse]\n"
+         "                   [--worst K] [--steps N] [--threads N] [--only INDEX]\n"
+         "\n"
+         "Generates K scenes (default 30) from seed N (default 1): the built-in meshes at a\n"
+         "coarse and a fine resolution (--coarse: coarse only) and every mesh file in\n"
+         "--mesh-dir (e.g. assets/cgal), or the one --mesh; each turned, scaled, moved far\n"
+         "from the origin and sometimes mirrored at random; regions of every kind (geodesic,\n"
+         "selectors, vertex lists, painted s) with a blend region at least 6 rings wide;\n"
+         "curves of 1-3 pieces bending up to 180 degrees, handles, twists in [-180, 180],\n"
+         "rotation and translation. Each is deformed on the CPU (--steps overrides the 250\n"
+         "steps); per scene: flipped triangles and when the first appeared, volume error and\n"
+         "change, outer displacement, inner rigid residual, ms/step. Writes DIR/battery.json,\n"
+         "DIR/battery.csv and, for the K worst (default 5), DIR/worst-R-NAME.{json,ply,png}:\n"
+         "'vfsd deform' on the .json reproduces the scene. --only INDEX runs scene INDEX alone.\n"
+         "Exits 1 when a scene folds, moves its outer region or bends its inner region.\n",
+         run_battery},
     };
     return list;
 }

@@ -52,6 +52,7 @@ int run_convert(const Args& args);
 int run_deform(const Args& args);
 int run_render(const Args& args);
 int run_bench(const Args& args);
+int run_battery(const Args& args);
 int run_picking_bench(const Args& args);  // vfsd bench --picking
 
 // The middle value (the upper one of an even count); 0 for none.

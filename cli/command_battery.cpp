@@ -1,0 +1,245 @@
+// vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR] [--coarse]
+//              [--worst K] [--steps N] [--threads N] [--only INDEX]
+//
+// Generates K scenes nobody tuned (engine/scene/battery.h: built-in and given
+// meshes, placed at random, regions of every kind, curves, handles, twists of
+// both signs, both inner motions), deforms each on the CPU and measures what the
+// method promises. Writes DIR/battery.json (every scene and its figures),
+// DIR/battery.csv and, for the K worst scenes, a scene file with its placed mesh
+// that `vfsd deform` reproduces and (with headless GL) a picture at t = 1.
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "base/error.h"
+#include "base/parallel.h"
+#include "cli/commands.h"
+#include "deform/quality.h"
+#include "mesh/geometry.h"
+#include "scene/battery.h"
+#include "scene/prepared_scene.h"
+#if VFSD_HAS_GPU
+#include "gpu/context.h"
+#include "gpu/renderer.h"
+#endif
+
+namespace vfsd::cli {
+namespace {
+
+struct Outcome {
+    BatteryScene battery;
+    DeformationQuality quality;
+    double volume_change_percent = 0.0;  // signed: 100 (after − before) / |before|
+    double first_fold_time = -1.0;       // the first tenth of t at which a triangle had folded; −1: none
+    double ms_per_step = 0.0;
+    std::vector<std::string> warnings;
+    std::string error;  // the deformation failed (a non-finite vertex): the scene fails
+    std::vector<Vec3> result;
+
+    bool failed() const {
+        return !error.empty() || quality.flipped_triangles > 0 || quality.outer_max_displacement != 0.0 ||
+               quality.inner_rigid_residual > 1e-9 || quality.nonfinite_vertices > 0;
+    }
+};
+
+Outcome run_scene(BatteryScene b) {
+    Outcome o;
+    o.battery = std::move(b);
+    const PreparedScene prepared = prepare_scene(o.battery.scene, o.battery.mesh);
+    o.warnings = prepared.warnings;
+    const auto& before = prepared.file.mesh.positions;
+    const auto& triangles = prepared.file.mesh.triangles;
+    Deformation d = prepared.start_deformation();
+    try {
+        for (int tenth = 1; tenth <= 10; ++tenth) {  // watch for folds on the way
+            d.advance(prepared.scene.target_time * tenth / 10.0);
+            if (o.first_fold_time < 0.0 && count_flipped_triangles(before, d.positions(), triangles) > 0)
+                o.first_fold_time = d.time();
+        }
+    } catch (const NumericalError& e) {
+        o.error = e.what();
+    }
+    o.result = d.positions();
+    o.quality = measure_quality(before, o.result, triangles, prepared.region.s);
+    const double v0 = o.quality.volume_before;
+    o.volume_change_percent = v0 != 0.0 ? 100.0 * (o.quality.volume_after - v0) / std::abs(v0) : 0.0;
+    o.ms_per_step = median(d.step_milliseconds());
+    return o;
+}
+
+nlohmann::json outcome_json(const Outcome& o) {
+    const BatteryScene& b = o.battery;
+    return {{"name", b.name},
+            {"mesh", b.mesh_source},
+            {"vertices", b.mesh.mesh.vertex_count()},
+            {"region", b.region_kind},
+            {"motion", b.motion_kind},
+            {"inner_motion", b.scene.inner_motion == InnerMotionMode::Rotation ? "rotation" : "translation"},
+            {"bend_degrees", b.bend_degrees},
+            {"move_over_inner", b.move_over_inner},
+            {"twist_degrees", b.twist_degrees},
+            {"scale", b.placement.scale},
+            {"mirrored", b.placement.mirrors()},
+            {"offset_over_diagonal", glm::length(b.placement.offset) / bounding_box(b.mesh.mesh.positions).diagonal()},
+            {"flipped_triangles", o.quality.flipped_triangles},
+            {"first_fold_time", o.first_fold_time},
+            {"volume_error_percent", o.quality.volume_error_percent},
+            {"volume_change_percent", o.volume_change_percent},
+            {"outer_max_displacement", o.quality.outer_max_displacement},
+            {"inner_rigid_residual", o.quality.inner_rigid_residual},
+            {"ms_per_step", o.ms_per_step},
+            {"warnings", o.warnings},
+            {"error", o.error},
+            {"passed", !o.failed()}};
+}
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(p * double(v.size() - 1) + 0.5))];
+}
+
+// Scene file + placed mesh that `vfsd deform` reproduces, and a picture.
+void write_worst(const std::filesystem::path& dir, int rank, const Outcome& o) {
+    const std::string stem = "worst-" + std::to_string(rank) + "-" + o.battery.name;
+    write_mesh_file((dir / (stem + ".ply")).string(), o.battery.mesh.mesh);
+    Scene scene = o.battery.scene;
+    scene.mesh = stem + ".ply";
+    write_file_atomically((dir / (stem + ".json")).string(), scene_to_json(scene).dump(1) + "\n");
+#if VFSD_HAS_GPU
+    try {
+        const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();
+        const PreparedScene prepared = prepare_scene(o.battery.scene, o.battery.mesh);
+        const gpu::Camera camera = gpu::Camera::framing(
+            gpu::deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion));
+        const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
+        gpu::RenderOptions options;
+        options.current_time = options.target_time = prepared.scene.target_time;
+        const gpu::Texture vertices = gpu::make_vertex_texture(o.result, prepared.region.s);
+        const int width = 640, height = 480;
+        gpu::write_png((dir / (stem + ".png")).string(), width, height,
+                       gpu::render_image(renderer, vertices, camera, width, height, options));
+    } catch (const vfsd::Error& e) {
+        std::fprintf(stderr, "battery: no picture of %s: %s\n", o.battery.name.c_str(), e.what());
+    }
+#endif
+}
+
+void write_csv(const std::filesystem::path& path, const std::vector<Outcome>& outcomes) {
+    std::ofstream out(path);
+    out << "name,vertices,region,motion,inner_motion,bend_degrees,twist_degrees,scale,mirrored,flipped_triangles,"
+           "first_fold_time,volume_error_percent,volume_change_percent,outer_max_displacement,inner_rigid_residual,"
+           "ms_per_step,passed\n";
+    for (const Outcome& o : outcomes) {
+        const nlohmann::json j = outcome_json(o);
+        out << j["name"].get<std::string>() << ',' << j["vertices"] << ',' << j["region"].get<std::string>() << ','
+            << j["motion"].get<std::string>() << ',' << j["inner_motion"].get<std::string>() << ',' << j["bend_degrees"]
+            << ',' << j["twist_degrees"] << ',' << j["scale"] << ',' << j["mirrored"] << ',' << j["flipped_triangles"]
+            << ',' << j["first_fold_time"] << ',' << j["volume_error_percent"] << ',' << j["volume_change_percent"]
+            << ',' << j["outer_max_displacement"] << ',' << j["inner_rigid_residual"] << ',' << j["ms_per_step"] << ','
+            << j["passed"] << '\n';
+    }
+}
+
+std::vector<std::string> mesh_files_in(const std::string& dir) {
+    std::vector<std::string> files;
+    if (dir.empty()) return files;
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) throw vfsd::InputError(dir + ": not a folder");
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        const std::string ext = entry.path().extension().string();
+        if (ext == ".off" || ext == ".obj" || ext == ".ply" || ext == ".stl") files.push_back(entry.path().string());
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+int positive_int(const Args& args, const char* option, int fallback) {
+    const double value = args.get_number(option, fallback);
+    if (value < 0 || value != static_cast<int>(value))
+        throw UsageError(std::string("--") + option + " expects a non-negative integer");
+    return static_cast<int>(value);
+}
+
+}  // namespace
+
+int run_battery(const Args& args) {
+    args.expect({"out", "seed", "count", "mesh-dir", "mesh", "coarse", "worst", "steps", "threads", "only"}, 0, 0);
+    if (!args.has("out") || args.get("out").empty()) throw UsageError("--out DIR is required");
+    const int seed = positive_int(args, "seed", 1), count = positive_int(args, "count", 30);
+    const int worst = positive_int(args, "worst", 5), steps = positive_int(args, "steps", 0);
+    if (args.has("threads")) set_parallel_thread_limit(std::max(1, positive_int(args, "threads", 0)));
+    std::vector<std::string> sources =
+        args.has("mesh") ? std::vector<std::string>{args.get("mesh")}
+                         : battery_mesh_sources(mesh_files_in(args.get("mesh-dir")), !args.has("coarse"));
+    const std::filesystem::path dir = args.get("out");
+    std::filesystem::create_directories(dir);
+
+    std::vector<Outcome> outcomes;
+    const int first = args.has("only") ? positive_int(args, "only", 0) : 0;
+    const int last = args.has("only") ? first + 1 : count;
+    for (int index = first; index < last; ++index) {
+        BatteryScene b = generate_battery_scene(static_cast<std::uint64_t>(seed), index, sources);
+        if (steps > 0) b.scene.options.steps = steps;
+        outcomes.push_back(run_scene(std::move(b)));
+        const Outcome& o = outcomes.back();
+        std::printf("%-48s %7zu v  folds %5zu  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step%s%s\n",
+                    o.battery.name.c_str(), o.battery.mesh.mesh.vertex_count(), o.quality.flipped_triangles,
+                    o.volume_change_percent, o.quality.outer_max_displacement, o.quality.inner_rigid_residual,
+                    o.ms_per_step, o.error.empty() ? "" : "  error: ", o.error.c_str());
+        std::fflush(stdout);
+    }
+
+    nlohmann::json scenes = nlohmann::json::array();
+    std::vector<double> volume, ms;
+    std::size_t folded = 0, folds = 0, failed = 0;
+    double outer = 0.0, inner = 0.0;
+    for (const Outcome& o : outcomes) {
+        scenes.push_back(outcome_json(o));
+        volume.push_back(o.quality.volume_error_percent);
+        ms.push_back(o.ms_per_step);
+        folded += o.quality.flipped_triangles > 0;
+        folds += o.quality.flipped_triangles;
+        failed += o.failed();
+        outer = std::max(outer, o.quality.outer_max_displacement);
+        inner = std::max(inner, o.quality.inner_rigid_residual);
+    }
+    const nlohmann::json summary = {{"seed", seed},
+                                    {"scenes", outcomes.size()},
+                                    {"scenes_failed", failed},
+                                    {"scenes_with_folds", folded},
+                                    {"flipped_triangles", folds},
+                                    {"volume_error_percent_median", percentile(volume, 0.5)},
+                                    {"volume_error_percent_p95", percentile(volume, 0.95)},
+                                    {"volume_error_percent_max", percentile(volume, 1.0)},
+                                    {"outer_max_displacement", outer},
+                                    {"inner_rigid_residual_max", inner},
+                                    {"ms_per_step_median", percentile(ms, 0.5)}};
+    write_file_atomically((dir / "battery.json").string(),
+                          nlohmann::json{{"summary", summary}, {"scenes", scenes}}.dump(1) + "\n");
+    write_csv(dir / "battery.csv", outcomes);
+
+    std::vector<const Outcome*> order;
+    for (const Outcome& o : outcomes) order.push_back(&o);
+    std::stable_sort(order.begin(), order.end(), [](const Outcome* a, const Outcome* b) {
+        if (a->quality.flipped_triangles != b->quality.flipped_triangles)
+            return a->quality.flipped_triangles > b->quality.flipped_triangles;
+        return a->quality.volume_error_percent > b->quality.volume_error_percent;
+    });
+    for (int k = 0; k < worst && k < int(order.size()); ++k) write_worst(dir, k + 1, *order[k]);
+
+    std::printf("battery seed %d: %zu scenes, %zu failed, %zu with folds (%zu triangles); volume error median %.4f%%, "
+                "p95 %.4f%%, max %.4f%%; outer displacement max %.3g; inner rigid residual max %.3g; %.3f ms/step "
+                "median\n",
+                seed, outcomes.size(), failed, folded, folds, summary["volume_error_percent_median"].get<double>(),
+                summary["volume_error_percent_p95"].get<double>(), summary["volume_error_percent_max"].get<double>(),
+                outer, inner, summary["ms_per_step_median"].get<double>());
+    return failed == 0 ? kExitOk : kExitInput;
+}
+
+}  // namespace vfsd::cli

@@ -1,0 +1,39 @@
+#pragma once
+// A battery of generated scenes: scenes nobody tuned, to hold the engine to the
+// method's promises (no local folds, volume kept, the outer region in place, the
+// inner region rigid) on any mesh, placement, size, region kind and motion.
+// Scene k of seed N is the same on every machine (its own random numbers, no
+// std:: distributions), so a failure is reproduced by its seed and index.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/mesh_file.h"
+#include "scene/scene.h"
+#include "scene/scene_transform.h"
+
+namespace vfsd {
+
+struct BatteryScene {
+    std::string name;         // "0007-armadillo-geodesic-curve2"
+    std::string mesh_source;  // what the mesh was loaded from, before placement
+    Scene scene;              // in placed coordinates; scene.mesh is mesh_source
+    MeshFile mesh;            // placed
+    Placement placement;
+    std::string region_kind;  // geodesic | selectors | vertex-lists | painted-s
+    std::string motion_kind;  // curveN (N segments) | handle
+    double bend_degrees = 0.0;
+    double move_over_inner = 0.0;  // curve length over the inner region's size
+    double twist_degrees = 0.0;
+};
+
+// The meshes a battery draws from: each built-in at a coarse and a fine
+// resolution, then every mesh file in `mesh_files` (e.g. CGAL's, assets/cgal).
+std::vector<std::string> battery_mesh_sources(const std::vector<std::string>& mesh_files, bool fine_builtins = true);
+
+// Scene `index` of battery `seed` over `mesh_sources` (index picks the mesh in
+// turn). Throws InputError when a mesh cannot be loaded.
+BatteryScene generate_battery_scene(std::uint64_t seed, int index, const std::vector<std::string>& mesh_sources);
+
+}  // namespace vfsd
