@@ -155,10 +155,17 @@ int run_deform(const Args& args) {
     }
 #if VFSD_HAS_GPU
     const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();  // GpuUnavailable: exit 1
+    if (!gpu_mirrors(scene.options))
+        std::fprintf(stderr, "warning: the GPU passes run sec. 5 as printed: no stream gauge fit, no volume keeping "
+                             "(docs/gpu.md); --backend cpu takes them\n");
     gpu::GpuDeformation deformation(prepared.file.mesh.positions, prepared.rings, prepared.region, prepared.motion,
-                                    scene.options);
+                                    gpu_mirrored(scene.options));
     return deform_and_write(args, prepared, deformation,
-                            {{"backend", "gpu"}, {"gl_context", context->kind()}, {"gl_renderer", context->renderer()}});
+                            {{"backend", "gpu"},
+                             {"gl_context", context->kind()},
+                             {"gl_renderer", context->renderer()},
+                             {"stream_gauge", "paper"},
+                             {"keep_volume", false}});
 #else
     throw vfsd::Error("this vfsd was built without the GPU backend (no headless GL: OSMesa not found); use --backend cpu");
 #endif

@@ -4,8 +4,8 @@
 // Renders the scene headless (OSMesa, or EGL in a build with VFSD_HEADLESS_GL=egl)
 // as the apps show it: s from blue (0) to red (1), the region borders, the curve,
 // a white sphere at the current time and a dark one at the scene's target time.
-// --time integrates to t first, on the CPU or (default) on the GPU, whose vertex
-// texture is drawn without read-back.
+// --time integrates to t first, on the CPU or on the GPU (whose vertex texture is
+// drawn without read-back) when the GPU takes every step the scene asks for.
 
 #include <cstdio>
 #include <filesystem>
@@ -39,7 +39,10 @@ int run_render(const Args& args) {
     const std::string scene_path = args.positional(0, "scene file");
     if (!args.has("png") || args.get("png").empty()) throw UsageError("--png OUT.png is required");
     const std::string out = args.get("png");
-    const std::string backend = args.get("backend", "gpu");
+    Scene scene = load_scene(scene_path);
+    // The GPU deforms when it takes every step the scene asks for (else the
+    // picture would not show what `vfsd deform` gives), or when told to.
+    const std::string backend = args.get("backend", gpu_mirrors(scene.options) ? "gpu" : "cpu");
     if (backend != "cpu" && backend != "gpu") throw UsageError("--backend must be 'cpu' or 'gpu'");
     int width = 800, height = 600;
     if (args.has("size")) parse_size(args.get("size"), width, height);
@@ -48,7 +51,6 @@ int run_render(const Args& args) {
     std::error_code ec;
     if (std::filesystem::exists(out, ec) && !args.has("force"))
         throw vfsd::InputError(out + ": already exists (pass --force to replace it)");
-    Scene scene = load_scene(scene_path);
     if (args.has("steps")) {
         const double steps = args.get_number("steps", 0);
         if (steps < 1 || steps != static_cast<int>(steps)) throw UsageError("--steps expects a positive integer");
@@ -71,7 +73,8 @@ int run_render(const Args& args) {
 
     std::vector<std::uint8_t> image;
     if (backend == "gpu" && !prepared.region.sphere_tool) {
-        gpu::GpuDeformation deformation(start, prepared.rings, prepared.region, prepared.motion, scene.options);
+        gpu::GpuDeformation deformation(start, prepared.rings, prepared.region, prepared.motion,
+                                        gpu_mirrored(scene.options));
         deformation.advance(time);
         image = gpu::render_image(renderer, deformation.passes().vertex_texture(), camera, width, height, options);
     } else {

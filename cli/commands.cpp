@@ -26,8 +26,9 @@ const std::vector<Command>& commands() {
          "usage: vfsd deform SCENE.json --out OUT.{obj,off,ply,glb} [--report REPORT.json]\n"
          "                  [--steps N] [--backend cpu|gpu] [--threads N] [--field-out FILE] [--force]\n"
          "\n"
-         "--backend gpu runs the passes of sec. 5 in a headless GL context (OSMesa);\n"
-         "when none can be made vfsd exits 1 and says why. --threads limits the CPU\n"
+         "--backend gpu runs the passes of sec. 5 in a headless GL context (OSMesa),\n"
+         "as printed: without the CPU's stream gauge fit and volume keeping (it warns);\n"
+         "when no context can be made vfsd exits 1 and says why. --threads limits the CPU\n"
          "backend's threads (default: all).\n",
          run_deform},
         {"render", "render a scene (optionally deformed to a time) to a PNG, headless",
@@ -36,8 +37,10 @@ const std::vector<Command>& commands() {
          "\n"
          "Draws the mesh with s from blue (0) to red (1), the region borders in yellow,\n"
          "the curve, a white sphere at c(t) and a dark one at the scene's target time.\n"
-         "--time integrates to t first (default 0, the undeformed scene) on the GPU\n"
-         "(default) or the CPU. --size defaults to 800x600. Needs OSMesa.\n",
+         "--time integrates to t first (default 0, the undeformed scene) on the CPU,\n"
+         "or on the GPU when it runs every step the scene asks for (sec. 5 as printed:\n"
+         "\"stream_gauge\": \"paper\", \"keep_volume\": false) or --backend gpu says so.\n"
+         "--size defaults to 800x600. Needs OSMesa.\n",
          run_render},
         {"bench", "time the deformation per step on the paper's models and larger meshes",
          "usage: vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--no-gpu]\n"
@@ -57,7 +60,7 @@ const std::vector<Command>& commands() {
          run_bench},
         {"battery", "deform generated scenes nobody tuned and measure folds, volume, rigidity",
          "usage: vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR | --mesh SPEC] [--coarse]\n"
-         "                   [--worst K] [--steps N] [--threads N] [--only INDEX]\n"
+         "                   [--worst K] [--steps N] [--threads N] [--only INDEX] [--amplitude A]\n"
          "\n"
          "Generates K scenes (default 30) from seed N (default 1): the built-in meshes at a\n"
          "coarse and a fine resolution (--coarse: coarse only) and every mesh file in\n"
@@ -65,7 +68,8 @@ const std::vector<Command>& commands() {
          "from the origin and sometimes mirrored at random; regions of every kind (geodesic,\n"
          "selectors, vertex lists, painted s) with a blend region at least 6 rings wide;\n"
          "curves of 1-3 pieces bending up to 180 degrees, handles, twists in [-180, 180],\n"
-         "rotation and translation. Each is deformed on the CPU (--steps overrides the 250\n"
+         "rotation and translation (--amplitude A in (0, 1] scales bends, twists, turns and\n"
+         "moves down). Each is deformed on the CPU (--steps overrides the 250\n"
          "steps); per scene: flipped triangles and when the first appeared, volume error and\n"
          "change, outer displacement, inner rigid residual, ms/step. Writes DIR/battery.json,\n"
          "DIR/battery.csv and, for the K worst (default 5), DIR/worst-R-NAME.{json,ply,png}:\n"

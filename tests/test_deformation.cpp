@@ -29,8 +29,7 @@ struct BoxScene {
     BoxScene() {
         for (const Vec3& p : mesh.positions) s.push_back(std::clamp((0.3 - p.z) / 0.8, 0.0, 1.0));
     }
-    Deformation deformation(const InnerMotion& motion, int steps = 100) const {
-        DeformationOptions options;
+    Deformation deformation(const InnerMotion& motion, int steps = 100, DeformationOptions options = {}) const {
         options.steps = steps;
         return Deformation(mesh.positions, build_vertex_rings(mesh), Region{s, {}}, motion, options);
     }
@@ -91,7 +90,9 @@ TEST_CASE("the stream's origin changes the blend region only", "[deform]") {
         InnerMotion at_curve = InnerMotion::along_curve(bend_curve(), mode, 0.0, 0.5);
         InnerMotion fixed = at_curve;
         fixed.set_stream_origin(Vec3(0.2, 0.1, -0.1));  // inside the blend region
-        Deformation a = scene.deformation(at_curve), b = scene.deformation(fixed);
+        DeformationOptions paper_gauge;  // the fitted gauge would take the place of either origin
+        paper_gauge.fit_stream_gauge = false;
+        Deformation a = scene.deformation(at_curve, 100, paper_gauge), b = scene.deformation(fixed, 100, paper_gauge);
         a.advance(1.0);
         b.advance(1.0);
         const DeformationQuality q = measure_quality(scene.mesh.positions, b.positions(), scene.mesh.triangles, scene.s);
@@ -238,8 +239,8 @@ StepCheck compare_with_classical_rk4(const StepMotion& m, const std::vector<Vec3
 
 }  // namespace
 
-TEST_CASE("the inner region's affine RK4 step equals RK4 of each inner vertex", "[deform]") {
-    // deformation_step maps inner vertices (s = 0) by one affine map found from
+TEST_CASE("the inner region's rigid RK4 step agrees with RK4 of each inner vertex", "[deform]") {
+    // deformation_step maps inner vertices (s = 0) by one rigid map found from
     // four points; classical RK4 of the rigid field per vertex must agree.
     const BoxScene scene;
     const std::vector<double> all_inner(scene.mesh.vertex_count(), 0.0);
@@ -255,7 +256,16 @@ TEST_CASE("the inner region's affine RK4 step equals RK4 of each inner vertex", 
         return [](const MotionSample& sample, const Vec3& x) { return inner_velocity(sample, x); };
     });
     CHECK(check.moved > 1e-3);
-    CHECK(check.worst < 1e-13);
+    // RK4 of a rotation field is not quite a rotation; the step is the rotation
+    // nearest to it, so it may differ by RK4's own error (h^5 terms) ...
+    CHECK(check.worst < 1e-6 * check.moved);
+    // ... and keeps every distance, where RK4 alone would not.
+    double stretch = 0.0;
+    const auto& p = scene.mesh.positions;
+    for (std::size_t a = 0; a < p.size(); a += 7)
+        for (std::size_t b = a + 1; b < p.size(); b += 5)
+            stretch = std::max(stretch, std::abs(glm::length(stepped[a] - stepped[b]) - glm::length(p[a] - p[b])));
+    CHECK(stretch < 1e-13);
 }
 
 TEST_CASE("the blend region's lane-wise RK4 step equals RK4 of each blend vertex", "[deform]") {

@@ -127,8 +127,9 @@ TEST_CASE("GPU gradient pass equals estimate_gradients (eq. 6)", "[gpu]") {
     }
 }
 
-TEST_CASE("GPU smoothing pass equals smooth_gradients", "[gpu]") {
+TEST_CASE("GPU smoothing pass equals smooth_gradients, tangent or in space", "[gpu]") {
     VFSD_REQUIRE_GPU_CONTEXT();
+    for (const bool tangent : {true, false})
     for (const PassInput& in : pass_inputs()) {
         gpu::GpuPasses gpu(in.positions, in.s, in.rings);
         std::vector<Vec3> normals;
@@ -137,8 +138,8 @@ TEST_CASE("GPU smoothing pass equals smooth_gradients", "[gpu]") {
         std::vector<Vec3> cpu = some_gradients(in, normals);
         gpu.set_gradients(cpu);
         gpu.estimate_normals(gpu::At::positions);
-        smooth_gradients(normals, RegionParts::of(in.s, in.rings), 10, 0.5, cpu, scratch);
-        gpu.smooth_gradients(10, 0.5);
+        smooth_gradients(normals, RegionParts::of(in.s, in.rings), 10, 0.5, tangent, cpu, scratch);
+        gpu.smooth_gradients(10, 0.5, tangent);
         const double scale = test::max_length(cpu);
         const double error = test::max_distance(gpu.read_gradients(), cpu);
         report("smoothing", in.name, error, scale);
@@ -196,7 +197,7 @@ TEST_CASE("GPU passes read nothing back", "[gpu]") {
     const std::uint64_t before = gpu::readback_count();
     gpu.estimate_normals(gpu::At::positions);
     gpu.estimate_gradients(gpu::At::positions);
-    gpu.smooth_gradients(3, 0.5);
+    gpu.smooth_gradients(3, 0.5, true);
     gpu.predict_midpoints(test_motion().at(0.0), 0.01);
     gpu.deformation_step(StepMotion::sample(test_motion(), 0.0, 0.01));
     CHECK(gpu::readback_count() == before);

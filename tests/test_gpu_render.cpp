@@ -41,6 +41,7 @@ TEST_CASE("Rendered scene shows s = 0 in blue and s = 1 in red", "[gpu][render]"
     VFSD_REQUIRE_GPU_CONTEXT();
     Scene scene = load_scene(kScene);
     scene.options.steps = 20;
+    scene.options = gpu_mirrored(scene.options);
     const PreparedScene prepared = prepare_scene(scene);
     const auto& start = prepared.file.mesh.positions;
     const gpu::Camera camera = gpu::Camera::framing(gpu::deformation_frame_points(start, prepared.region.s, prepared.motion));
@@ -82,5 +83,6 @@ TEST_CASE("vfsd render and vfsd deform --backend gpu run headless", "[gpu][rende
     CHECK(!json["gl_renderer"].get<std::string>().empty());
     CHECK(json["gl_context"] == vfsd::test::gpu_context()->kind());
     CHECK(json["steps"] == 20);
+    CHECK(json["stream_gauge"] == "paper");  // what the GPU ran, said
     std::filesystem::remove_all(dir);
 }

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "curve/bezier_curve.h"
+#include "field/stream_gauge.h"
 
 namespace vfsd {
 
@@ -34,6 +35,9 @@ struct MotionSample {
     // f ∇e − e ∇f of translation and rotation is expanded. Eq. (10) puts it at c(t);
     // see InnerMotion::set_stream_origin.
     Vec3 stream_origin{0.0};
+    // ∇φ added to the stream (field/stream_gauge.h): fitted to the blend region
+    // by the deformation at each step; zero (the paper's gauge) from InnerMotion.
+    StreamGauge gauge;
 };
 
 class InnerMotion {

@@ -6,6 +6,8 @@
 #include <string>
 
 #include "base/error.h"
+#include "field/stream_gauge.h"
+#include "field/vector_field.h"
 #include "mesh/vertex_order.h"
 
 namespace vfsd {
@@ -32,11 +34,21 @@ Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region 
         s_ = gather_in_order(region_.s, order_);
         parts_ = RegionParts::of(s_, rings_);
         input_order_.resize(positions_.size());
+        if (options_.keep_volume) volume_ = VolumeKeeper(positions_, s_, rings_, parts_.blend);
     }
     normals_.assign(positions_.size(), Vec3(0.0));
     gradients_.assign(positions_.size(), Vec3(0.0));
     next_ = positions_;
     midpoints_ = positions_;
+}
+
+bool gpu_mirrors(const DeformationOptions& options) {
+    return !options.fit_stream_gauge && !options.keep_volume;
+}
+
+DeformationOptions gpu_mirrored(DeformationOptions options) {
+    options.fit_stream_gauge = options.keep_volume = false;
+    return options;
 }
 
 double next_time_on_grid(double time, double target, int steps) {
@@ -60,23 +72,29 @@ int Deformation::advance(double target, int max_steps) {
 
 void Deformation::step(double h) {
     const auto start = std::chrono::steady_clock::now();
-    const StepMotion motion = StepMotion::sample(motion_, time_, h);
+    StepMotion motion = StepMotion::sample(motion_, time_, h);
     if (region_.sphere_tool) {
         next_ = positions_;
         deformation_step(motion, *region_.sphere_tool, next_);
         check_finite(next_);
     } else {
-        if (!options_.gradients_at_midpoint) {
-            estimate_surface_gradients(positions_);
-        } else {
-            if (!have_gradients_) estimate_surface_gradients(positions_);
+        // The gauge, like ∇r, is taken where the step's middle is (predicted with
+        // the gauge and ∇r at its start), so that a step back retraces the step.
+        if (!options_.gradients_at_midpoint || !have_gradients_) estimate_surface_gradients(positions_);
+        if (options_.fit_stream_gauge) fit_stream_gauge(positions_, motion);
+        if (options_.gradients_at_midpoint) {
             predict_midpoints(motion.start, h, s_, parts_, gradients_, positions_, midpoints_);
             estimate_surface_gradients(midpoints_);
+            if (options_.fit_stream_gauge) fit_stream_gauge(midpoints_, motion);
         }
         deformation_step(motion, s_, parts_, gradients_, positions_, next_);
         check_finite(next_);
     }
     positions_.swap(next_);
+    // The volume drift is undone after every step, while it is small and smooth
+    // (restoring it every few steps folded thin features); it is then part of
+    // the step's map, and a step back undoes it as well.
+    if (!region_.sphere_tool) volume_restored_ += std::abs(volume_.restore(positions_, rings_));
     input_order_current_ = false;
     step_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }
@@ -90,11 +108,32 @@ const std::vector<Vec3>& Deformation::positions() const {
     return input_order_;
 }
 
+// The gauge of the step's three motion samples, fitted to the blend region at
+// `at` (at most kGaugeSamples of its vertices, spread over it) with the current ∇r.
+void Deformation::fit_stream_gauge(const std::vector<Vec3>& at, StepMotion& motion) const {
+    constexpr std::size_t kGaugeSamples = 512;  // all of a smaller blend region: then no vertex order matters
+    const std::size_t n = parts_.blend.size(), stride = (n + kGaugeSamples - 1) / kGaugeSamples;
+    std::vector<GaugeSample> samples;
+    for (std::size_t i = 0; i < n; i += stride) {
+        const std::uint32_t v = parts_.blend[i];
+        const double weight = (1.0 - bernstein_blend(s_[v])) * bernstein_blend_derivative(s_[v]);
+        samples.push_back({at[v], weight * gradients_[v]});
+    }
+    const GaugeFit fit(std::move(samples));
+    for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = fit.gauge_for(*m);
+}
+
+double Deformation::volume_restored_percent() const {
+    return volume_.active() && volume_.rest_volume() != 0.0 ? 100.0 * volume_restored_ / std::abs(volume_.rest_volume())
+                                                            : 0.0;
+}
+
 // Normal, gradient (eq. 6) and smoothing passes on the positions `at`.
 void Deformation::estimate_surface_gradients(const std::vector<Vec3>& at) {
     estimate_normals(at, rings_, parts_.blend, normals_);
     estimate_gradients(at, normals_, s_, rings_, parts_.blend, gradients_);
-    smooth_gradients(normals_, parts_, options_.smoothing_steps, options_.smoothing_weight, gradients_, smoothing_);
+    smooth_gradients(normals_, parts_, options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing,
+                     gradients_, smoothing_);
     have_gradients_ = true;
 }
 

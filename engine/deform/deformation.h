@@ -11,6 +11,7 @@
 
 #include "curve/inner_motion.h"
 #include "deform/passes.h"
+#include "deform/volume_keeper.h"
 #include "mesh/vertex_rings.h"
 
 namespace vfsd {
@@ -22,7 +23,18 @@ struct DeformationOptions {
     // Estimate normals and ∇r at the predicted middle of each step (second order)
     // rather than at its start as sec. 5 does (first order in time).
     bool gradients_at_midpoint = true;
+    // Beyond the paper, to keep its promise on any scene (docs/method.md,
+    // "Keeping the promise"); all three false is sec. 5 as printed:
+    bool fit_stream_gauge = true;    // fit the stream's gauge to the blend region every step (field/stream_gauge.h)
+    bool tangent_smoothing = false;  // keep ∇r tangent while smoothing it (sec. 5) instead of smoothing it in space
+    bool keep_volume = true;         // undo the scheme's volume drift after every step (deform/volume_keeper.h)
 };
+
+// Whether the GPU passes (engine/gpu) take every step these options ask for: they
+// mirror sec. 5 with either smoothing, not the stream gauge fit or the volume keeper.
+bool gpu_mirrors(const DeformationOptions& options);
+// The options with the steps only the CPU takes turned off.
+DeformationOptions gpu_mirrored(DeformationOptions options);
 
 // Which part of the shape moves: s per vertex (0 full, 1 none), or the sphere tool.
 struct Region {
@@ -55,11 +67,16 @@ public:
     std::size_t state_bytes() const;
     // Wall time of every step taken so far, in milliseconds.
     const std::vector<double>& step_milliseconds() const { return step_ms_; }
+    // The volume drift the keeper undid over all steps so far, in percent of the
+    // volume before (0 with keep_volume off or on an open surface): the error the
+    // field's discretisation alone would have left.
+    double volume_restored_percent() const;
 
 private:
     void step(double h);
     void check_finite(const std::vector<Vec3>& candidate) const;
     void estimate_surface_gradients(const std::vector<Vec3>& at);
+    void fit_stream_gauge(const std::vector<Vec3>& at, StepMotion& motion) const;
 
     // positions_, rings_ and s_ are in the work order: vertex i is input vertex
     // order_[i] (mesh/vertex_order.h); order_ is empty for the sphere tool.
@@ -80,6 +97,8 @@ private:
     SmoothingScratch smoothing_;
     bool have_gradients_ = false;  // gradients_ hold the last step's ∇r
     std::vector<double> step_ms_;
+    VolumeKeeper volume_;
+    double volume_restored_ = 0.0;  // Σ |drift undone|
 };
 
 }  // namespace vfsd

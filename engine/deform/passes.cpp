@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 
 #include "base/parallel.h"
 #include "field/field_lanes.h"
@@ -35,10 +36,21 @@ struct AffineStep {
     Vec3 operator()(const Vec3& x) const { return image + linear * (x - x0); }
 };
 
+// RK4's map of a rotation field is a rotation only up to O(h⁵) per step; over a
+// strong bend or twist those errors add up to a shear of 1e-7 of the diagonal.
+// The inner region is to move rigidly (sec. 3), so the step keeps the orthogonal
+// factor of M, its polar decomposition by Higham's iteration R ← ½ (R + R⁻ᵀ),
+// which converges quadratically from a matrix this close to a rotation.
+glm::dmat3 nearest_rotation(glm::dmat3 r) {
+    for (int i = 0; i < 5; ++i) r = 0.5 * (r + glm::transpose(glm::inverse(r)));
+    return r;
+}
+
 AffineStep rigid_rk4_step(const StepMotion& m) {
     const auto rigid = [](const Vec3& x, const MotionSample& sample) { return inner_velocity(sample, x); };
     AffineStep step{m.start.position, rk4(m, m.start.position, rigid), glm::dmat3(1.0)};
     for (int axis = 0; axis < 3; ++axis) step.linear[axis] = rk4(m, step.x0 + step.linear[axis], rigid) - step.image;
+    step.linear = nearest_rotation(step.linear);
     return step;
 }
 
@@ -192,7 +204,7 @@ void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Ve
 }
 
 void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts, int steps, double weight,
-                      std::vector<Vec3>& gradients, SmoothingScratch& scratch) {
+                      bool tangent, std::vector<Vec3>& gradients, SmoothingScratch& scratch) {
     const std::size_t n = parts.blend.size();
     const auto pack = [](const Vec3& v) { return Float4{float(v.x), float(v.y), float(v.z), 0.0f}; };
     scratch.gradients.resize(n);
@@ -218,7 +230,7 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
                 }
                 const Float4 normal = scratch.normals[i];
                 const Float4 product = g * normal;
-                scratch.next[i] = g - (product[0] + product[1] + product[2]) * normal;
+                scratch.next[i] = tangent ? g - (product[0] + product[1] + product[2]) * normal : g;
             }
         });
         scratch.gradients.swap(scratch.next);

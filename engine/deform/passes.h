@@ -57,11 +57,14 @@ struct SmoothingScratch {
 };
 
 // Smoothing pass: `steps` Laplacian steps moving each gradient by `weight` toward
-// the mean gradient of its 1-ring neighbours with 0 < s < 1, kept tangent to the
-// surface (normal removed), on the blend region only (∇r stays as it is elsewhere:
-// 0 after the gradient pass).
+// the mean gradient of its 1-ring neighbours with 0 < s < 1, on the blend region
+// only (∇r stays as it is elsewhere: 0 after the gradient pass). With `tangent`,
+// each step removes the normal part again (sec. 5 as printed); without, ∇r is
+// smoothed as a vector in space, so that neighbours across a crease or a bump
+// agree on one direction instead of each keeping to its own tangent plane
+// (docs/method.md, "Keeping the promise").
 void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts, int steps, double weight,
-                      std::vector<Vec3>& gradients, SmoothingScratch& scratch);
+                      bool tangent, std::vector<Vec3>& gradients, SmoothingScratch& scratch);
 
 // Midpoint predictor: where each vertex will be half-way through the step, by one
 // Euler half step along the field with the previous step's gradients. The normal,

@@ -40,7 +40,13 @@ PreparedMotion::PreparedMotion(const MotionSample& m) {
     copy3(m.twist_origin, twist_origin);
     copy3(m.stream_origin, o);
     copy3(origin_velocity(m), u);
+    copy3(m.gauge.centre, gauge_centre);
+    gauge_inverse_scale = m.gauge.inverse_scale;
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 10; ++k) gauge[i][k] = m.gauge.q[i][k];
 }
+
+
 
 // On x86-64 with GCC, an AVX2 clone (four doubles per instruction, no FMA, so
 // the same bits as the baseline SSE2 one) is picked at load time where the CPU
@@ -59,17 +65,29 @@ void deformation_velocities(const PreparedMotion& m, int n, const double* __rest
     double* __restrict ox = out.x;
     double* __restrict oy = out.y;
     double* __restrict oz = out.z;
+    const double (&q)[3][10] = m.gauge;
     for (int j = 0; j < n; ++j) {
         const double y0 = px[j] - m.c[0], y1 = py[j] - m.c[1], y2 = pz[j] - m.c[2];
         // Rigid velocity ∇e × ∇f = ċ + (ω + τ) × y.
         const double i0 = m.v[0] + (m.w[1] * y2 - m.w[2] * y1);
         const double i1 = m.v[1] + (m.w[2] * y0 - m.w[0] * y2);
         const double i2 = m.v[2] + (m.w[0] * y1 - m.w[1] * y0);
-        // Stream vector f ∇e − e ∇f = z × U + rotation streams of ω (about o) and τ (about its origin).
+        // Stream vector f ∇e − e ∇f = z × U + gauge + rotation streams of ω (about o) and τ (about its origin).
         const double z0 = px[j] - m.o[0], z1 = py[j] - m.o[1], z2 = pz[j] - m.o[2];
         double s0 = z1 * m.u[2] - z2 * m.u[1];
         double s1 = z2 * m.u[0] - z0 * m.u[2];
         double s2 = z0 * m.u[1] - z1 * m.u[0];
+        // The gauge ∇φ (gauge_gradient of stream_gauge.cpp; all zero for the paper's).
+        const double d0 = (px[j] - m.gauge_centre[0]) * m.gauge_inverse_scale;
+        const double d1 = (py[j] - m.gauge_centre[1]) * m.gauge_inverse_scale;
+        const double d2 = (pz[j] - m.gauge_centre[2]) * m.gauge_inverse_scale;
+        const double d00 = d0 * d0, d11 = d1 * d1, d22 = d2 * d2, d01 = d0 * d1, d02 = d0 * d2, d12 = d1 * d2;
+        s0 += q[0][0] + q[0][1] * d0 + q[0][2] * d1 + q[0][3] * d2 + q[0][4] * d00 + q[0][5] * d11 + q[0][6] * d22 +
+              q[0][7] * d01 + q[0][8] * d02 + q[0][9] * d12;
+        s1 += q[1][0] + q[1][1] * d0 + q[1][2] * d1 + q[1][3] * d2 + q[1][4] * d00 + q[1][5] * d11 + q[1][6] * d22 +
+              q[1][7] * d01 + q[1][8] * d02 + q[1][9] * d12;
+        s2 += q[2][0] + q[2][1] * d0 + q[2][2] * d1 + q[2][3] * d2 + q[2][4] * d00 + q[2][5] * d11 + q[2][6] * d22 +
+              q[2][7] * d01 + q[2][8] * d02 + q[2][9] * d12;
         add_rotation_stream(m.omega, m.omega_inv2, z0, z1, z2, s0, s1, s2);
         const double q0 = px[j] - m.twist_origin[0], q1 = py[j] - m.twist_origin[1], q2 = pz[j] - m.twist_origin[2];
         add_rotation_stream(m.twist, m.twist_inv2, q0, q1, q2, s0, s1, s2);

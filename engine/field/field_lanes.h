@@ -25,6 +25,8 @@ struct PreparedMotion {
     double omega[3], omega_inv2;                  // ω, 1/|ω|² (0 where ω = 0)
     double twist[3], twist_inv2, twist_origin[3]; // τ, 1/|τ|², the twist stream's origin
     double o[3], u[3];                            // the stream's origin o, U = ċ + ω × (o − c)
+    double gauge_centre[3], gauge_inverse_scale;  // the gauge ∇φ (field/stream_gauge.h)
+    double gauge[3][10];
     explicit PreparedMotion(const MotionSample& m);
 };
 

@@ -47,9 +47,10 @@ Vec3 stream_vector(const MotionSample& m, const Vec3& x) {
     // the axis through o, U = ċ + ω × (o − c) being the velocity at o (U = ċ at the
     // default o = c). The twist, eq. (14), is a rotation stream about the axis
     // c + λ ĉ, its plane ẽ = 0 through m.twist_origin (as printed: through c).
+    // Then the gauge ∇φ fitted to the region (field/stream_gauge.h).
     const Vec3 z = x - m.stream_origin;
     return glm::cross(z, origin_velocity(m)) + rotation_stream(m.angular_velocity, z) +
-           rotation_stream(m.twist, x - m.twist_origin);
+           rotation_stream(m.twist, x - m.twist_origin) + gauge_gradient(m.gauge, x);
 }
 
 Vec3 deformation_velocity(const MotionSample& m, const Vec3& x, double b, const Vec3& grad_b) {

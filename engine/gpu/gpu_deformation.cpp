@@ -31,6 +31,9 @@ GpuDeformation::GpuDeformation(const std::vector<Vec3>& positions, const VertexR
       passes_(positions, checked_s(region_, positions.size()), rings) {
     if (options_.steps < 1) throw InputError("steps must be at least 1");
     if (options_.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
+    if (!gpu_mirrors(options_))
+        throw GpuUnavailable("the GPU passes do not fit the stream's gauge or keep the volume yet (docs/gpu.md); "
+                             "the CPU runs them, or set \"stream_gauge\": \"paper\" and \"keep_volume\": false");
 }
 
 int GpuDeformation::advance(double target, int max_steps) {
@@ -69,7 +72,7 @@ void GpuDeformation::step(double h) {
 void GpuDeformation::estimate_surface_gradients(At at) {
     passes_.estimate_normals(at);
     passes_.estimate_gradients(at);
-    passes_.smooth_gradients(options_.smoothing_steps, options_.smoothing_weight);
+    passes_.smooth_gradients(options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing);
     have_gradients_ = true;
 }
 

@@ -132,9 +132,10 @@ void GpuPasses::estimate_gradients(At at) {
     draw(gradient_[current_gradient_]);
 }
 
-void GpuPasses::smooth_gradients(int steps, double weight) {
+void GpuPasses::smooth_gradients(int steps, double weight, bool tangent) {
     bind_mesh(smooth_program_);
     smooth_program_.set("u_weight", static_cast<float>(weight));
+    smooth_program_.set("u_tangent", tangent ? 1 : 0);
     vertex_[current_].texture.bind(kUnitPositions);  // only s (w) is read
     normal_.texture.bind(kUnitNormals);
     for (int step = 0; step < steps; ++step) {

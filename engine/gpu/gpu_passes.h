@@ -39,7 +39,7 @@ public:
     // Gradient pass, eq. (6): gradient texture from the vertex texture and normals.
     void estimate_gradients(At at);
     // Smoothing pass, `steps` times (ping-pong); s is taken from the vertex texture.
-    void smooth_gradients(int steps, double weight);
+    void smooth_gradients(int steps, double weight, bool tangent);
     // Midpoint predictor: midpoint texture from the positions and the current gradients.
     void predict_midpoints(const MotionSample& start, double h);
     // Deformation pass: one RK4 step of the positions; the new positions become current.

@@ -111,11 +111,17 @@ std::string set_region(Random& rng, const RegionLayout& r, const TriangleMesh& m
             spec.g_min = r.inner;
             spec.g_max = r.inner + r.width;
             return "geodesic";
-        case 1: {  // eq. (16) between a ball and a half-space behind it
+        case 1: {  // eq. (16) between a ball and a half-space towards the far end
             spec.kind = RegionSpec::Kind::painted;
             spec.inner = {Selector{SelectorKind::sphere, centre, Vec3(0.0), r.inner, {}}};
-            const Vec3 back = -r.direction;
-            spec.outer = {Selector{SelectorKind::halfspace, back, Vec3(0.0), r.inner + r.width + glm::dot(back, centre), {}}};
+            const auto far = static_cast<std::size_t>(
+                std::max_element(r.g.begin(), r.g.end(), [](double a, double b) { return a < b || !std::isfinite(a); }) -
+                r.g.begin());
+            const Vec3 back = glm::normalize(p[far] - centre);
+            double extent = 0.0;  // how far the mesh reaches that way
+            for (const Vec3& x : p) extent = std::max(extent, glm::dot(back, x - centre));
+            const double behind = std::min(r.inner + r.width, r.inner + 0.8 * (extent - r.inner));
+            spec.outer = {Selector{SelectorKind::halfspace, back, Vec3(0.0), behind + glm::dot(back, centre), {}}};
             return "selectors";
         }
         case 2: {  // eq. (16) between painted vertex lists
@@ -129,9 +135,12 @@ std::string set_region(Random& rng, const RegionLayout& r, const TriangleMesh& m
             spec.outer = {outer};
             return "vertex-lists";
         }
-        default:  // s painted directly: a ramp in the distance from the seed
+        default:  // s painted directly: a ramp in the geodesic distance from the seed, eased
             spec.kind = RegionSpec::Kind::field;
-            for (const Vec3& x : p) spec.s.push_back(std::clamp((glm::length(x - centre) - r.inner) / r.width, 0.0, 1.0));
+            for (const double g : r.g) {
+                const double ramp = std::clamp((g - r.inner) / r.width, 0.0, 1.0);
+                spec.s.push_back(ramp * ramp * (3.0 - 2.0 * ramp));
+            }
             return "painted-s";
     }
 }
@@ -177,6 +186,23 @@ std::string short_name(const std::string& source) {
 
 }  // namespace
 
+std::string battery_mesh_unusable(const TriangleMesh& mesh) {
+    const std::size_t n = mesh.vertex_count();
+    if (n < kBatteryMinVertices)
+        return std::to_string(n) + " vertices (fewer than " + std::to_string(kBatteryMinVertices) + ")";
+    const VertexRings rings = build_vertex_rings(mesh);
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (!rings.is_closed(v)) return "open (vertex " + std::to_string(v) + " is on a border or not manifold)";
+    std::vector<bool> reached(n, false);
+    std::vector<std::uint32_t> queue = {0};
+    reached[0] = true;
+    for (std::size_t i = 0; i < queue.size(); ++i)
+        for (std::uint32_t k = rings.begin(queue[i]); k < rings.end(queue[i]); ++k)
+            if (!reached[rings.neighbours[k]]) reached[rings.neighbours[k]] = true, queue.push_back(rings.neighbours[k]);
+    if (queue.size() < n) return "more than one piece";
+    return "";
+}
+
 std::vector<std::string> battery_mesh_sources(const std::vector<std::string>& mesh_files, bool fine_builtins) {
     std::vector<std::string> sources = {"builtin:box:8", "builtin:cylinder:24", "builtin:sphere:3", "builtin:bar:5"};
     if (fine_builtins)
@@ -186,7 +212,8 @@ std::vector<std::string> battery_mesh_sources(const std::vector<std::string>& me
     return sources;
 }
 
-BatteryScene generate_battery_scene(std::uint64_t seed, int index, const std::vector<std::string>& mesh_sources) {
+BatteryScene generate_battery_scene(std::uint64_t seed, int index, const std::vector<std::string>& mesh_sources,
+                                    double amplitude) {
     Random rng(seed * 0x9E3779B97F4A7C15ull + std::uint64_t(index) * 0xD1B54A32D192ED03ull + 1);
     BatteryScene b;
     b.mesh_source = mesh_sources.at(std::size_t(index) % mesh_sources.size());
@@ -199,22 +226,23 @@ BatteryScene generate_battery_scene(std::uint64_t seed, int index, const std::ve
     scene.mesh = b.mesh_source;
     b.region_kind = set_region(rng, layout, mesh, scene.region);
     const Vec3 start = mesh.positions[layout.seed];
-    const double length = rng.uniform(0.2, 1.0) * 2.0 * layout.inner;  // up to the inner region's size
+    const double amp = amplitude;
+    const double length = amp * rng.uniform(0.2, 1.0) * 2.0 * layout.inner;  // up to the inner region's size
     if (rng.chance(0.25)) {  // a handle moved and turned (sec. 6.2)
         b.motion_kind = "handle";
         scene.curve.is_handle = true;
         const Vec3 w = perpendicular(layout.direction);
         scene.curve.from = {start, layout.direction, w};
-        const glm::dmat3 turn = rng.rotation(90.0 * kDegrees);
+        const glm::dmat3 turn = rng.rotation(amp * 90.0 * kDegrees);
         const Vec3 move = glm::normalize(layout.direction + 0.7 * rng.unit_vector());
         scene.curve.to = {start + length * move, turn * layout.direction, turn * w};
         b.bend_degrees = std::acos(std::clamp(glm::dot(layout.direction, turn * layout.direction), -1.0, 1.0)) / kDegrees;
     } else {
         const int pieces = 1 + static_cast<int>(rng.below(3));
         b.motion_kind = "curve" + std::to_string(pieces);
-        b.bend_degrees = rng.uniform(0.0, 180.0);
+        b.bend_degrees = amp * rng.uniform(0.0, 180.0);
         scene.curve.bezier = bent_curve(rng, start, layout.direction, pieces, length, b.bend_degrees * kDegrees);
-        scene.twist_degrees[1] = b.twist_degrees = rng.uniform(-180.0, 180.0);
+        scene.twist_degrees[1] = b.twist_degrees = amp * rng.uniform(-180.0, 180.0);
         if (rng.chance(0.3)) scene.inner_motion = InnerMotionMode::Translation;
     }
     b.move_over_inner = length / (2.0 * layout.inner);

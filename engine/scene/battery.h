@@ -32,8 +32,19 @@ struct BatteryScene {
 // resolution, then every mesh file in `mesh_files` (e.g. CGAL's, assets/cgal).
 std::vector<std::string> battery_mesh_sources(const std::vector<std::string>& mesh_files, bool fine_builtins = true);
 
+// Why a mesh cannot host battery scenes ("" when it can): a battery scene needs
+// a closed surface (so that its volume is defined), one piece (so that every
+// vertex has a geodesic distance) and at least kBatteryMinVertices vertices (so
+// that an inner, a blend region six rings wide and an outer region fit on it).
+constexpr std::size_t kBatteryMinVertices = 500;
+std::string battery_mesh_unusable(const TriangleMesh& mesh);
+
 // Scene `index` of battery `seed` over `mesh_sources` (index picks the mesh in
-// turn). Throws InputError when a mesh cannot be loaded.
-BatteryScene generate_battery_scene(std::uint64_t seed, int index, const std::vector<std::string>& mesh_sources);
+// turn). At amplitude 1 bends reach 180°, twists ±180°, handles turn up to 90°
+// and the curve is up to the inner region's size long; a smaller amplitude
+// scales all four down (the same scene otherwise). Throws InputError when a mesh
+// cannot be loaded.
+BatteryScene generate_battery_scene(std::uint64_t seed, int index, const std::vector<std::string>& mesh_sources,
+                                    double amplitude = 1.0);
 
 }  // namespace vfsd

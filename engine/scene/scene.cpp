@@ -147,6 +147,20 @@ void parse_motion_and_options(const Reader& in, const json& j, Scene& scene) {
     }
     if (j.contains("steps")) scene.options.steps = in.integer(j["steps"], "steps", 1, 1000000);
     if (j.contains("smoothing_steps")) scene.options.smoothing_steps = in.integer(j["smoothing_steps"], "smoothing_steps", 0, 10000);
+    if (j.contains("stream_gauge")) {
+        const json& gauge = j["stream_gauge"];
+        if (gauge != "fit" && gauge != "paper") in.fail("stream_gauge", "expected \"fit\" or \"paper\"");
+        scene.options.fit_stream_gauge = gauge == "fit";
+    }
+    if (j.contains("smoothing")) {
+        const json& smoothing = j["smoothing"];
+        if (smoothing != "space" && smoothing != "tangent") in.fail("smoothing", "expected \"space\" or \"tangent\"");
+        scene.options.tangent_smoothing = smoothing == "tangent";
+    }
+    if (j.contains("keep_volume")) {
+        if (!j["keep_volume"].is_boolean()) in.fail("keep_volume", "expected true or false");
+        scene.options.keep_volume = j["keep_volume"].get<bool>();
+    }
     if (j.contains("target_time")) {
         scene.target_time = in.number(j["target_time"], "target_time");
         if (scene.target_time < 0.0 || scene.target_time > 1.0) in.fail("target_time", "expected a time in [0, 1]");
@@ -263,6 +277,9 @@ nlohmann::json scene_to_json(const Scene& scene) {
     else j["stream_origin"] = "curve";
     j["steps"] = scene.options.steps;
     j["smoothing_steps"] = scene.options.smoothing_steps;
+    j["stream_gauge"] = scene.options.fit_stream_gauge ? "fit" : "paper";
+    j["smoothing"] = scene.options.tangent_smoothing ? "tangent" : "space";
+    j["keep_volume"] = scene.options.keep_volume;
     j["target_time"] = scene.target_time;
     return j;
 }

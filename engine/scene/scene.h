@@ -14,7 +14,10 @@
 //   "twist_degrees": [a0, a1],
 //   "twist_plane": "region" | "curve" | ζ0,          // where eq. (14)'s ẽ = 0 (default "region")
 //   "stream_origin": "curve" | [x,y,z],               // where e, f are built about (default c(t))
-//   "steps": 250, "smoothing_steps": 10, "target_time": 1.0 }
+//   "steps": 250, "smoothing_steps": 10, "target_time": 1.0,
+//   "stream_gauge": "fit" | "paper",                  // beyond the paper (docs/method.md): defaults
+//   "smoothing": "space" | "tangent",                 //   fit, space, true; "paper", "tangent",
+//   "keep_volume": true | false }                     //   false is sec. 5 as printed
 
 #include <optional>
 #include <string>

@@ -109,7 +109,8 @@ try {
   check(/^\d+\.\d+ %$/.test(shown.trim()), `volume error shown: ${shown.trim()}`);
   check(Math.abs(parseFloat(shown) - stats.volume_error_percent) < 1e-3 && stats.volume_error_percent > 0,
         'the panel shows the live volume error');
-  check(stats.backend === 'gpu', 'deformed on the GPU path');
+  const reason = (await state()).backend_reason;
+  check(stats.backend === 'cpu' && /gauge/.test(reason), `deformed on the CPU path (${reason})`);
   await page.evaluate(() => document.getElementById('h-time').scrollIntoView());
   await page.screenshot({ path: path.join(out, 'web-deformed.png') });
   const colours = await canvasColours(page);
@@ -139,17 +140,17 @@ try {
   check(fs.statSync(meshFile).size > 0 && fs.statSync(sceneFile).size > 0, `downloaded ${path.basename(meshFile)} and ${path.basename(sceneFile)}`);
   const ref = path.join(out, 'vfsd-deform.obj'), report = path.join(out, 'vfsd-deform-report.json');
   execFileSync(cli, ['deform', sceneFile, '--out', ref, '--report', report, '--force'], { stdio: 'inherit' });
-  // GPU (float32) against the CPU (double): as tests/test_gpu_deformation.cpp, the
-  // 99th percentile within 1e-4 of the diagonal and the maximum within 2e-3 (float32
-  // rounding is amplified where the painted region's field is steep; docs/web.md).
+  // The page's export against the CLI's: the 99th percentile within 1e-4 of the
+  // diagonal and the maximum within 2e-3 (the bound a float32 GPU run is held to,
+  // as in tests/test_gpu_deformation.cpp and docs/web.md).
   const errorsOf = (a, b) => a.map((p, v) => Math.hypot(p[0] - b[v][0], p[1] - b[v][1], p[2] - b[v][2]) / diag)
                                .sort((x, y) => x - y);
   const b = readObj(ref);
-  const gpu = errorsOf(readObj(meshFile), b);
-  check(gpu.length === n && b.length === n, `same vertex count (${n})`);
-  const p99 = gpu[Math.floor(0.99 * n)], max = gpu[n - 1];
+  const exported = errorsOf(readObj(meshFile), b);
+  check(exported.length === n && b.length === n, `same vertex count (${n})`);
+  const p99 = exported[Math.floor(0.99 * n)], max = exported[n - 1];
   check(p99 <= 1e-4 && max <= 2e-3,
-        `GPU export vs vfsd deform: 99th percentile ${p99.toExponential(2)}, max ${max.toExponential(2)} of the diagonal`);
+        `page export vs vfsd deform: 99th percentile ${p99.toExponential(2)}, max ${max.toExponential(2)} of the diagonal`);
   // The CPU path in the page computes what `vfsd deform` computes.
   await page.getByLabel('Force CPU path').check();
   await waitTime(1);

@@ -1,0 +1,73 @@
+#pragma once
+// The stream's gauge, fitted to the region at every step (beyond the paper).
+//
+// The field v = (1 − b)² u − (1 − b) S × ∇b (vector_field.h) is the curl of
+// (1 − b)² A with A = −S/2, and all the inner region needs is ∇ × A = u. So S may
+// be replaced by S + ∇φ for any φ: the inner region moves the same and v stays
+// divergence-free, but the blend region moves otherwise. Eqs. (9)–(14) fix one
+// S, which grows with the distance from c(t) (and from the twist's plane); every
+// error of the per-vertex ∇r estimate is multiplied by it, and across a blend
+// region far from c(t), or twisted, it makes the blend region overshoot and
+// shear (docs/method.md). The stream origin and twist plane of InnerMotion are
+// two hand-set cases of this freedom.
+//
+// StreamGauge is ∇φ for a cubic polynomial φ in d = (x − centre) / scale,
+// fitted by least squares over samples x_i of the blend region with
+// g_i = (1 − b_i) ∇b_i, the factor S meets in v:
+//
+//   Σ_i |(S + ∇φ)(x_i) × g_i|² + μ |g_i|² |(S + ∇φ)(x_i)|²  →  min.
+//
+// The first term keeps the blend region's motion close to the blended rigid
+// motion (1 − b)² u (monotone: no overshoot, no backward turn); the second keeps
+// the stream itself small where ∇r's errors would be multiplied by it.
+
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace vfsd {
+
+using Vec3 = glm::dvec3;
+
+// ∇φ as three quadratic polynomials in d = (x − centre) · inverse_scale, with
+// the coefficients of (1, dx, dy, dz, dx², dy², dz², dx dy, dx dz, dy dz).
+// All zero (the default) is the paper's gauge.
+struct StreamGauge {
+    Vec3 centre{0.0};
+    double inverse_scale = 1.0;
+    double q[3][10] = {};
+};
+
+// ∇φ(x).
+Vec3 gauge_gradient(const StreamGauge& gauge, const Vec3& x);
+
+// One sample of the blend region: its position and (1 − b) ∇b there.
+struct GaugeSample {
+    Vec3 position{0.0};
+    Vec3 weight{0.0};
+};
+
+struct MotionSample;
+
+// The least-squares fit above over a set of samples: the normal matrix depends
+// on the samples alone, so it is built and factored once and serves the three
+// motion samples of an RK4 step.
+class GaugeFit {
+public:
+    // μ of the objective: how much a small stream counts against a small S × g.
+    static constexpr double kStreamWeight = 10.0;
+    explicit GaugeFit(std::vector<GaugeSample> samples);
+    // The gauge for the motion at one time; the paper's (zero) gauge when there
+    // are no samples or the system is singular. m's own gauge is ignored.
+    StreamGauge gauge_for(const MotionSample& m) const;
+
+private:
+    static constexpr int kTerms = 19;  // gradients of the 3 linear, 6 quadratic and 10 cubic monomials
+    std::vector<GaugeSample> samples_;
+    Vec3 centre_{0.0};
+    double inverse_scale_ = 1.0;
+    double cholesky_[kTerms][kTerms] = {};
+    bool solvable_ = false;
+};
+
+}  // namespace vfsd
