@@ -146,8 +146,10 @@ void write_csv(const std::filesystem::path& path, const std::vector<Outcome>& ou
     }
 }
 
+// The mesh files in `dir` that can host battery scenes; the others are named on
+// stderr with the reason.
 std::vector<std::string> mesh_files_in(const std::string& dir) {
-    std::vector<std::string> files;
+    std::vector<std::string> files, usable;
     if (dir.empty()) return files;
     std::error_code ec;
     if (!std::filesystem::is_directory(dir, ec)) throw vfsd::InputError(dir + ": not a folder");
@@ -156,7 +158,19 @@ std::vector<std::string> mesh_files_in(const std::string& dir) {
         if (ext == ".off" || ext == ".obj" || ext == ".ply" || ext == ".stl") files.push_back(entry.path().string());
     }
     std::sort(files.begin(), files.end());
-    return files;
+    for (const std::string& file : files) {
+        std::string why;
+        try {
+            why = vfsd::battery_mesh_unusable(vfsd::load_mesh_file(file).mesh);
+        } catch (const vfsd::InputError& e) {
+            why = e.what();
+        }
+        if (why.empty()) usable.push_back(file);
+        else std::fprintf(stderr, "battery: skipping %s: %s\n", file.c_str(), why.c_str());
+    }
+    std::fprintf(stderr, "battery: %zu of %zu mesh files in %s can host scenes\n", usable.size(), files.size(),
+                 dir.c_str());
+    return usable;
 }
 
 int positive_int(const Args& args, const char* option, int fallback) {
@@ -169,10 +183,12 @@ int positive_int(const Args& args, const char* option, int fallback) {
 }  // namespace
 
 int run_battery(const Args& args) {
-    args.expect({"out", "seed", "count", "mesh-dir", "mesh", "coarse", "worst", "steps", "threads", "only"}, 0, 0);
+    args.expect({"out", "seed", "count", "mesh-dir", "mesh", "coarse", "worst", "steps", "threads", "only", "amplitude"}, 0, 0);
     if (!args.has("out") || args.get("out").empty()) throw UsageError("--out DIR is required");
     const int seed = positive_int(args, "seed", 1), count = positive_int(args, "count", 30);
     const int worst = positive_int(args, "worst", 5), steps = positive_int(args, "steps", 0);
+    const double amplitude = args.get_number("amplitude", 1.0);
+    if (!(amplitude > 0.0 && amplitude <= 1.0)) throw UsageError("--amplitude expects a number in (0, 1]");
     if (args.has("threads")) set_parallel_thread_limit(std::max(1, positive_int(args, "threads", 0)));
     std::vector<std::string> sources =
         args.has("mesh") ? std::vector<std::string>{args.get("mesh")}
@@ -184,7 +200,7 @@ int run_battery(const Args& args) {
     const int first = args.has("only") ? positive_int(args, "only", 0) : 0;
     const int last = args.has("only") ? first + 1 : count;
     for (int index = first; index < last; ++index) {
-        BatteryScene b = generate_battery_scene(static_cast<std::uint64_t>(seed), index, sources);
+        BatteryScene b = generate_battery_scene(static_cast<std::uint64_t>(seed), index, sources, amplitude);
         if (steps > 0) b.scene.options.steps = steps;
         outcomes.push_back(run_scene(std::move(b)));
         const Outcome& o = outcomes.back();
@@ -210,6 +226,7 @@ int run_battery(const Args& args) {
         inner = std::max(inner, o.quality.inner_rigid_residual);
     }
     const nlohmann::json summary = {{"seed", seed},
+                                    {"amplitude", amplitude},
                                     {"scenes", outcomes.size()},
                                     {"scenes_failed", failed},
                                     {"scenes_with_folds", folded},
@@ -233,10 +250,10 @@ int run_battery(const Args& args) {
     });
     for (int k = 0; k < worst && k < int(order.size()); ++k) write_worst(dir, k + 1, *order[k]);
 
-    std::printf("battery seed %d: %zu scenes, %zu failed, %zu with folds (%zu triangles); volume error median %.4f%%, "
+    std::printf("battery seed %d, amplitude %g: %zu scenes, %zu failed, %zu with folds (%zu triangles); volume error median %.4f%%, "
                 "p95 %.4f%%, max %.4f%%; outer displacement max %.3g; inner rigid residual max %.3g; %.3f ms/step "
                 "median\n",
-                seed, outcomes.size(), failed, folded, folds, summary["volume_error_percent_median"].get<double>(),
+                seed, amplitude, outcomes.size(), failed, folded, folds, summary["volume_error_percent_median"].get<double>(),
                 summary["volume_error_percent_p95"].get<double>(), summary["volume_error_percent_max"].get<double>(),
                 outer, inner, summary["ms_per_step_median"].get<double>());
     return failed == 0 ? kExitOk : kExitInput;
