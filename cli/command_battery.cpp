@@ -83,6 +83,7 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"bend_degrees", b.bend_degrees},
             {"move_over_inner", b.move_over_inner},
             {"twist_degrees", b.twist_degrees},
+            {"blend_rings", b.blend_rings},
             {"scale", b.placement.scale},
             {"mirrored", b.placement.mirrors()},
             {"offset_over_diagonal", glm::length(b.placement.offset) / bounding_box(b.mesh.mesh.positions).diagonal()},

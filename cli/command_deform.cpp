@@ -38,14 +38,55 @@ void refuse_overwrite(const std::string& out, const std::vector<std::string>& in
     if (!force) throw vfsd::InputError(out + ": already exists (pass --force to replace it)");
 }
 
-// Integrates to `target` in chunks, showing progress on a terminal.
+// When the first folded triangle was seen: the run is checked every tenth of
+// its steps (and at the end), so first_step is at most that much late.
+struct FoldWatch {
+    int first_step = -1;
+    double first_time = -1.0;
+};
+
+// Integrates to `target` in chunks, showing progress on a terminal and watching
+// for folds.
 template <class D>
-void run_to(D& deformation, double target) {
+FoldWatch run_to(D& deformation, double target, const PreparedScene& p) {
     const bool tty = isatty(fileno(stderr));
     const int chunk = std::max(1, deformation.options().steps / 50);
-    while (deformation.advance(target, chunk) > 0)
+    const int check_every = std::max(1, deformation.options().steps / 10);
+    FoldWatch watch;
+    int taken = 0, unchecked = 0;
+    while ((taken = deformation.advance(target, chunk)) > 0) {
         if (tty) std::fprintf(stderr, "\rdeforming: t = %.3f", deformation.time());
+        unchecked += taken;
+        if (watch.first_step < 0 && (unchecked >= check_every || deformation.time() == target)) {
+            unchecked = 0;
+            if (count_flipped_triangles(p.file.mesh.positions, deformation.positions(), p.file.mesh.triangles) > 0) {
+                watch.first_step = static_cast<int>(deformation.step_milliseconds().size());
+                watch.first_time = deformation.time();
+            }
+        }
+    }
     if (tty) std::fprintf(stderr, "\n");
+    return watch;
+}
+
+// The report's "folds" and a warning on stderr when triangles folded.
+nlohmann::json describe_folds(const PreparedScene& p, const std::vector<Vec3>& after, const FoldWatch& watch) {
+    const std::vector<std::uint32_t> folded = flipped_triangle_list(p.file.mesh.positions, after, p.file.mesh.triangles);
+    if (folded.empty()) return nlohmann::json::object();
+    const FoldWhere where = locate_folds(p.file.mesh.positions, p.file.mesh.triangles, p.region.s, folded);
+    std::fprintf(stderr,
+                 "warning: %zu triangles folded (first seen after step %d, t = %.3g), around (%.6g, %.6g, %.6g) "
+                 "before the deformation, where s is %.3g to %.3g; the report's \"folds\" lists them\n",
+                 folded.size(), watch.first_step, watch.first_time, where.centre.x, where.centre.y, where.centre.z,
+                 where.s_min, where.s_max);
+    constexpr std::size_t kListed = 1000;
+    return {{"count", folded.size()},
+            {"first_seen_after_step", watch.first_step},
+            {"first_seen_at_time", watch.first_time},
+            {"centre", {where.centre.x, where.centre.y, where.centre.z}},
+            {"s_min", where.s_min},
+            {"s_max", where.s_max},
+            {"triangles", std::vector<std::uint32_t>(folded.begin(), folded.begin() + std::min(folded.size(), kListed))}};
 }
 
 double median(std::vector<double> v) {
@@ -101,7 +142,7 @@ template <class D>
 int deform_and_write(const Args& args, const PreparedScene& prepared, D& deformation,
                      const nlohmann::json& backend_fields) {
     const auto start = std::chrono::steady_clock::now();
-    run_to(deformation, prepared.scene.target_time);
+    const FoldWatch watch = run_to(deformation, prepared.scene.target_time, prepared);
     finish(deformation);
     const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
@@ -113,6 +154,8 @@ int deform_and_write(const Args& args, const PreparedScene& prepared, D& deforma
         measure_quality(prepared.file.mesh.positions, result.positions, result.triangles, prepared.region.s);
     nlohmann::json report = report_json(prepared, deformation, quality, total_ms);
     report.update(backend_fields);
+    const nlohmann::json folds = describe_folds(prepared, result.positions, watch);
+    if (!folds.empty()) report["folds"] = folds;
     if (args.has("report")) write_file_atomically(args.get("report"), report.dump(2) + "\n");
     char volume[64] = "volume undefined (open or non-manifold surface)";
     if (quality.volume_defined) std::snprintf(volume, sizeof volume, "volume error %.4f%%", quality.volume_error_percent);

@@ -28,8 +28,9 @@ const std::vector<Command>& commands() {
          "\n"
          "--backend gpu runs the passes of sec. 5 in a headless GL context (OSMesa),\n"
          "as printed: without the CPU's stream gauge fit and volume keeping (it warns);\n"
-         "when no context can be made vfsd exits 1 and says why. --threads limits the CPU\n"
-         "backend's threads (default: all).\n",
+         "when no context can be made vfsd exits 1 and says why. --threads limits the\n"
+         "CPU backend's threads (default: all). When triangles fold, stderr says how\n"
+         "many, after which step and where; the report's \"folds\" lists them.\n",
          run_deform},
         {"render", "render a scene (optionally deformed to a time) to a PNG, headless",
          "usage: vfsd render SCENE.json --png OUT.png [--time t] [--size WxH] [--backend cpu|gpu]\n"

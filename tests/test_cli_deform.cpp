@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "deform/quality.h"
 #include "io/mesh_file.h"
 #include "mesh/geometry.h"
 #include "test_io_support.h"
@@ -72,6 +73,41 @@ TEST_CASE("vfsd deform writes the deformed mesh in the input's layout and a repo
     std::size_t lines = 0;
     for (double s; field >> s; ++lines) CHECK((s >= 0.0 && s <= 1.0));
     CHECK(lines == input.file_vertex_count());
+}
+
+TEST_CASE("vfsd deform says when triangles fold, how many, from when and where", "[deform][cli]") {
+    ScratchDir dir;
+    // The box of fig. 5 twisted by 180° with sec. 5 as printed and no smoothing:
+    // folds. The report lists exactly the triangles that face against their
+    // neighbours in the written mesh; stderr says so.
+    nlohmann::json scene = nlohmann::json::parse(std::ifstream(std::string(VFSD_SOURCE_DIR) +
+                                                               "/assets/scenes/fig05-box-bend-twist.json"));
+    scene.update({{"twist_degrees", {0, 180}}, {"stream_gauge", "paper"}, {"smoothing", "tangent"},
+                  {"keep_volume", false}, {"smoothing_steps", 0}, {"steps", 40}});
+    write_bytes(dir.file("twist.json"), scene.dump());
+    REQUIRE(deform(dir, "'" + dir.file("twist.json") + "' --out '" + dir.file("out.ply") + "' --report '" +
+                            dir.file("r.json") + "'") == 0);
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir.file("r.json")));
+    REQUIRE(report.contains("folds"));
+    const nlohmann::json& folds = report["folds"];
+    CHECK(folds["count"] == report["flipped_triangles"]);
+    CHECK(folds["count"].get<int>() > 0);
+    CHECK(folds["first_seen_after_step"].get<int>() > 0);
+    CHECK(folds["first_seen_after_step"].get<int>() <= 40);
+    CHECK(folds["first_seen_at_time"].get<double>() > 0.0);
+    CHECK(folds["s_min"].get<double>() >= 0.0);
+    CHECK(folds["s_min"].get<double>() <= folds["s_max"].get<double>());
+    CHECK(folds["s_max"].get<double>() <= 1.0);
+    const MeshFile box = load_mesh_file("builtin:box"), written = read_mesh_file(dir.file("out.ply"));
+    CHECK(folds["triangles"].get<std::vector<std::uint32_t>>() ==
+          flipped_triangle_list(box.mesh.positions, written.mesh.positions, box.mesh.triangles));
+    CHECK(test::read_bytes(dir.file("stderr.txt")).find("triangles folded (first seen after step") != std::string::npos);
+
+    // A scene that folds nothing says nothing of folds.
+    REQUIRE(deform(dir, "'" + cube_scene(dir) + "' --out '" + dir.file("cube.obj") + "' --report '" +
+                            dir.file("cube.json") + "'") == 0);
+    CHECK_FALSE(nlohmann::json::parse(std::ifstream(dir.file("cube.json"))).contains("folds"));
+    CHECK(test::read_bytes(dir.file("stderr.txt")).find("folded") == std::string::npos);
 }
 
 TEST_CASE("vfsd deform refuses bad scenes with one line and exit code 1", "[deform][cli]") {

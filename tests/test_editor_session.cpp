@@ -185,3 +185,26 @@ TEST_CASE("Scripts: JSON lines and arrays parse; errors name the line", "[editor
     CHECK_THROWS_WITH(parse_script("{\"action\": \"undo\"}\n{\"t\": 1}\n", "x"), Catch::Contains("x:2"));
     CHECK_THROWS_WITH(parse_script("{oops\n", "y"), Catch::Contains("y:1"));
 }
+
+TEST_CASE("The session says when its deformation started to fold", "[editor]") {
+    // The box of fig. 5 twisted by 180° with sec. 5 as printed and no smoothing folds.
+    Scene scene = load_scene(std::string(VFSD_SOURCE_DIR) + "/assets/scenes/fig05-box-bend-twist.json");
+    scene.twist_degrees[1] = 180.0;
+    scene.options.fit_stream_gauge = scene.options.keep_volume = false;
+    scene.options.tangent_smoothing = true;
+    scene.options.smoothing_steps = 0;
+    scene.options.steps = 40;
+    EditorSession session;
+    session.open_scene(scene);
+    CHECK(session.stats().first_fold_time == -1.0);
+    session.play();
+    run_to_target(session);
+    CHECK(session.stats().flipped_triangles > 0);
+    CHECK(session.stats().first_fold_time > 0.0);
+    CHECK(session.stats().first_fold_time <= 1.0);
+    session.set_target_time(0.0);  // back to the start: the record stays until the deformation is rebuilt
+    run_to_target(session);
+    CHECK(session.stats().first_fold_time > 0.0);
+    session.set_force_cpu(true);  // the deformation is rebuilt
+    CHECK(session.stats().first_fold_time == -1.0);
+}

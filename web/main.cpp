@@ -410,7 +410,8 @@ json App::state() const {
                   {"backend", st.backend},
                   {"ms_per_step", ms_per_step_},
                   {"volume_error_percent", st.volume_error_percent},
-                  {"flipped_triangles", st.flipped_triangles}};
+                  {"flipped_triangles", st.flipped_triangles},
+                  {"first_fold_time", st.first_fold_time}};
     const editor::CurveSettings& c = s.curve();
     return {{"stats", stats},
             {"backend_reason", st.backend_reason},

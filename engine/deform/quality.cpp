@@ -69,15 +69,34 @@ bool is_closed_surface(const std::vector<Triangle>& triangles) {
     return !triangles.empty();
 }
 
-std::size_t count_flipped_triangles(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
-                                    const std::vector<Triangle>& triangles) {
+std::vector<std::uint32_t> flipped_triangle_list(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
+                                                 const std::vector<Triangle>& triangles) {
     const auto neighbours = edge_neighbours(triangles);
-    std::size_t flipped = 0;
+    std::vector<std::uint32_t> flipped;
     for (std::uint32_t t = 0; t < triangles.size(); ++t)
         if (faces_against_neighbours(after, triangles, neighbours[t], t) &&
             !faces_against_neighbours(before, triangles, neighbours[t], t))
-            ++flipped;
+            flipped.push_back(t);
     return flipped;
+}
+
+std::size_t count_flipped_triangles(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
+                                    const std::vector<Triangle>& triangles) {
+    return flipped_triangle_list(before, after, triangles).size();
+}
+
+FoldWhere locate_folds(const std::vector<Vec3>& before, const std::vector<Triangle>& triangles,
+                       const std::vector<double>& s, const std::vector<std::uint32_t>& folded) {
+    FoldWhere w;
+    if (folded.empty()) return w;
+    w.s_min = 1.0, w.s_max = 0.0;
+    for (const std::uint32_t t : folded)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = triangles[t][k];
+            w.centre += before[v] / (3.0 * double(folded.size()));
+            w.s_min = std::min(w.s_min, s[v]), w.s_max = std::max(w.s_max, s[v]);
+        }
+    return w;
 }
 
 DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::vector<Vec3>& after,

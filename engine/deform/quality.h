@@ -34,6 +34,19 @@ DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::v
 // True when every edge of `triangles` belongs to exactly two triangles.
 bool is_closed_surface(const std::vector<Triangle>& triangles);
 
+// The indices of the triangles count_flipped_triangles counts.
+std::vector<std::uint32_t> flipped_triangle_list(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
+                                                 const std::vector<Triangle>& triangles);
+
+// Where folded triangles lie on the mesh before the deformation: the centroid of
+// their corners and the range of s over them.
+struct FoldWhere {
+    Vec3 centre{0.0};
+    double s_min = 0.0, s_max = 0.0;
+};
+FoldWhere locate_folds(const std::vector<Vec3>& before, const std::vector<Triangle>& triangles,
+                       const std::vector<double>& s, const std::vector<std::uint32_t>& folded);
+
 // Triangles whose normal points against the mean normal of their edge neighbours
 // in `after` but not in `before`: local foldovers the deformation created.
 std::size_t count_flipped_triangles(const std::vector<Vec3>& before, const std::vector<Vec3>& after,

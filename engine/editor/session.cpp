@@ -484,6 +484,7 @@ void EditorSession::drop_deformation() {
     stats_.ms_per_step = 0.0;
     stats_.volume_error_percent = 0.0;
     stats_.flipped_triangles = 0;
+    stats_.first_fold_time = -1.0;
     ++revision_;
 }
 
@@ -528,6 +529,7 @@ void EditorSession::update_stats() {
     const double volume = signed_volume(now, mesh.triangles);
     stats_.volume_error_percent = base_volume_ != 0.0 ? 100.0 * std::abs(volume - base_volume_) / std::abs(base_volume_) : 0.0;
     stats_.flipped_triangles = count_flipped_triangles(mesh.positions, now, mesh.triangles);
+    if (stats_.flipped_triangles > 0 && stats_.first_fold_time < 0.0) stats_.first_fold_time = time();
 }
 
 const std::vector<Vec3>& EditorSession::positions() const {

@@ -30,6 +30,7 @@ struct SessionStats {
     double ms_per_step = 0.0;
     double volume_error_percent = 0.0;  // live, against the base mesh
     std::size_t flipped_triangles = 0;  // live, against the base mesh
+    double first_fold_time = -1.0;      // when folds were first counted in this deformation (−1: never)
 };
 
 enum class BrushTool { paint_inner, paint_outer, erase, paint_s };

@@ -10,6 +10,7 @@
 #include "mesh/geometry.h"
 #include "mesh/vertex_rings.h"
 #include "region/geodesic.h"
+#include "scene/prepared_scene.h"
 
 namespace vfsd {
 namespace {
@@ -63,6 +64,7 @@ struct RegionLayout {
     std::vector<double> g;  // geodesic distance from the seed
     double inner = 0.0;     // the inner region: g ≤ inner
     double width = 0.0;     // the blend region: inner < g < inner + width
+    double reach = 0.0;     // the largest g
     Vec3 direction{0.0};    // the way out of the mesh at the inner region
 };
 
@@ -72,7 +74,7 @@ RegionLayout layout_region(Random& rng, const TriangleMesh& mesh, const VertexRi
     RegionLayout r;
     r.seed = rng.below(static_cast<std::uint32_t>(p.size()));
     r.g = geodesic_distance(p, rings, {r.seed});
-    double reach = 0.0;
+    double& reach = r.reach;
     for (double d : r.g)
         if (std::isfinite(d)) reach = std::max(reach, d);
     r.inner = std::max(2.0 * h, rng.uniform(0.04, 0.15) * diagonal);
@@ -186,6 +188,21 @@ std::string short_name(const std::string& source) {
 
 }  // namespace
 
+int blend_ring_width(const std::vector<double>& s, const VertexRings& rings) {
+    const auto n = static_cast<std::uint32_t>(s.size());
+    std::vector<int> ring(n, -1);
+    std::vector<std::uint32_t> queue;
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (s[v] <= 0.0) ring[v] = 0, queue.push_back(v);
+    for (std::size_t i = 0; i < queue.size(); ++i) {
+        const std::uint32_t v = queue[i];
+        if (s[v] >= 1.0) return ring[v];  // breadth-first: the first outer vertex reached is the nearest
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
+            if (ring[rings.neighbours[k]] < 0) ring[rings.neighbours[k]] = ring[v] + 1, queue.push_back(rings.neighbours[k]);
+    }
+    return -1;
+}
+
 std::string battery_mesh_unusable(const TriangleMesh& mesh) {
     const std::size_t n = mesh.vertex_count();
     if (n < kBatteryMinVertices)
@@ -220,11 +237,27 @@ BatteryScene generate_battery_scene(std::uint64_t seed, int index, const std::ve
     b.mesh = load_mesh_file(b.mesh_source);
     const TriangleMesh& mesh = b.mesh.mesh;
     const VertexRings rings = build_vertex_rings(mesh);
-    const RegionLayout layout = layout_region(rng, mesh, rings);
+    RegionLayout layout = layout_region(rng, mesh, rings);
 
     Scene scene;
     scene.mesh = b.mesh_source;
-    b.region_kind = set_region(rng, layout, mesh, scene.region);
+    // The blend region must be at least kBatteryBlendRings rings wide everywhere;
+    // where the triangles are large it is widened (the same random choices) or,
+    // when the mesh is too short for that, the inner region is made smaller.
+    for (int attempt = 0;; ++attempt) {
+        Random trial = rng;
+        scene.region = RegionSpec{};
+        b.region_kind = set_region(trial, layout, mesh, scene.region);
+        std::vector<std::string> warnings;
+        b.blend_rings = blend_ring_width(build_region(scene.region, mesh.positions, rings, warnings).s, rings);
+        if (b.blend_rings >= kBatteryBlendRings || attempt == 6) {
+            rng = trial;
+            break;
+        }
+        const double wider = layout.width * 1.2 * kBatteryBlendRings / std::max(1, b.blend_rings);
+        layout.inner = std::max(0.25 * layout.inner, std::min(layout.inner, 0.8 * layout.reach - wider));
+        layout.width = std::min(wider, 0.8 * layout.reach - layout.inner);
+    }
     const Vec3 start = mesh.positions[layout.seed];
     const double amp = amplitude;
     const double length = amp * rng.uniform(0.2, 1.0) * 2.0 * layout.inner;  // up to the inner region's size

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "io/mesh_file.h"
+#include "mesh/vertex_rings.h"
 #include "scene/scene.h"
 #include "scene/scene_transform.h"
 
@@ -26,7 +27,13 @@ struct BatteryScene {
     double bend_degrees = 0.0;
     double move_over_inner = 0.0;  // curve length over the inner region's size
     double twist_degrees = 0.0;
+    int blend_rings = 0;  // the fewest edges from an inner to an outer vertex (blend_ring_width)
 };
+
+// The blend region's narrowest width in rings: the fewest edges on a path from
+// a vertex with s = 0 to one with s = 1 (−1 when no such path exists).
+constexpr int kBatteryBlendRings = 6;
+int blend_ring_width(const std::vector<double>& s, const VertexRings& rings);
 
 // The meshes a battery draws from: each built-in at a coarse and a fine
 // resolution, then every mesh file in `mesh_files` (e.g. CGAL's, assets/cgal).
