@@ -184,11 +184,13 @@ int positive_int(const Args& args, const char* option, int fallback) {
 }  // namespace
 
 int run_battery(const Args& args) {
-    args.expect({"out", "seed", "count", "mesh-dir", "mesh", "coarse", "worst", "steps", "threads", "only", "amplitude"}, 0, 0);
+    args.expect({"out", "seed", "count", "mesh-dir", "mesh", "coarse", "worst", "steps", "threads", "only", "amplitude", "scheme"}, 0, 0);
     if (!args.has("out") || args.get("out").empty()) throw UsageError("--out DIR is required");
     const int seed = positive_int(args, "seed", 1), count = positive_int(args, "count", 30);
     const int worst = positive_int(args, "worst", 5), steps = positive_int(args, "steps", 0);
     const double amplitude = args.get_number("amplitude", 1.0);
+    const std::string scheme = args.get("scheme", "default");
+    if (scheme != "default" && scheme != "paper") throw UsageError("--scheme must be 'default' or 'paper'");
     if (!(amplitude > 0.0 && amplitude <= 1.0)) throw UsageError("--amplitude expects a number in (0, 1]");
     if (args.has("threads")) set_parallel_thread_limit(std::max(1, positive_int(args, "threads", 0)));
     std::vector<std::string> sources =
@@ -203,6 +205,10 @@ int run_battery(const Args& args) {
     for (int index = first; index < last; ++index) {
         BatteryScene b = generate_battery_scene(static_cast<std::uint64_t>(seed), index, sources, amplitude);
         if (steps > 0) b.scene.options.steps = steps;
+        if (scheme == "paper") {  // sec. 5 as printed, for comparison
+            b.scene.options.fit_stream_gauge = b.scene.options.keep_volume = false;
+            b.scene.options.tangent_smoothing = true;
+        }
         outcomes.push_back(run_scene(std::move(b)));
         const Outcome& o = outcomes.back();
         std::printf("%-48s %7zu v  folds %5zu  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step%s%s\n",
@@ -228,6 +234,7 @@ int run_battery(const Args& args) {
     }
     const nlohmann::json summary = {{"seed", seed},
                                     {"amplitude", amplitude},
+                                    {"scheme", scheme},
                                     {"scenes", outcomes.size()},
                                     {"scenes_failed", failed},
                                     {"scenes_with_folds", folded},
@@ -251,10 +258,10 @@ int run_battery(const Args& args) {
     });
     for (int k = 0; k < worst && k < int(order.size()); ++k) write_worst(dir, k + 1, *order[k]);
 
-    std::printf("battery seed %d, amplitude %g: %zu scenes, %zu failed, %zu with folds (%zu triangles); volume error median %.4f%%, "
+    std::printf("battery seed %d, amplitude %g, scheme %s: %zu scenes, %zu failed, %zu with folds (%zu triangles); volume error median %.4f%%, "
                 "p95 %.4f%%, max %.4f%%; outer displacement max %.3g; inner rigid residual max %.3g; %.3f ms/step "
                 "median\n",
-                seed, amplitude, outcomes.size(), failed, folded, folds, summary["volume_error_percent_median"].get<double>(),
+                seed, amplitude, scheme.c_str(), outcomes.size(), failed, folded, folds, summary["volume_error_percent_median"].get<double>(),
                 summary["volume_error_percent_p95"].get<double>(), summary["volume_error_percent_max"].get<double>(),
                 outer, inner, summary["ms_per_step_median"].get<double>());
     return failed == 0 ? kExitOk : kExitInput;

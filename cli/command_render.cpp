@@ -76,6 +76,7 @@ int run_render(const Args& args) {
         gpu::GpuDeformation deformation(start, prepared.rings, prepared.region, prepared.motion,
                                         gpu_mirrored(scene.options));
         deformation.advance(time);
+        options.vertex_origin = deformation.passes().vertex_origin();
         image = gpu::render_image(renderer, deformation.passes().vertex_texture(), camera, width, height, options);
     } else {
         Deformation deformation = prepared.start_deformation();

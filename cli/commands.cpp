@@ -62,6 +62,7 @@ const std::vector<Command>& commands() {
         {"battery", "deform generated scenes nobody tuned and measure folds, volume, rigidity",
          "usage: vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR | --mesh SPEC] [--coarse]\n"
          "                   [--worst K] [--steps N] [--threads N] [--only INDEX] [--amplitude A]\n"
+         "                   [--scheme default|paper]\n"
          "\n"
          "Generates K scenes (default 30) from seed N (default 1): the built-in meshes at a\n"
          "coarse and a fine resolution (--coarse: coarse only) and every mesh file in\n"
@@ -71,7 +72,8 @@ const std::vector<Command>& commands() {
          "curves of 1-3 pieces bending up to 180 degrees, handles, twists in [-180, 180],\n"
          "rotation and translation (--amplitude A in (0, 1] scales bends, twists, turns and\n"
          "moves down). Each is deformed on the CPU (--steps overrides the 250\n"
-         "steps); per scene: flipped triangles and when the first appeared, volume error and\n"
+         "steps; --scheme paper runs sec. 5 as printed: \"stream_gauge\": \"paper\",\n"
+         "\"smoothing\": \"tangent\", \"keep_volume\": false); per scene: flipped triangles and when the first appeared, volume error and\n"
          "change, outer displacement, inner rigid residual, ms/step. Writes DIR/battery.json,\n"
          "DIR/battery.csv and, for the K worst (default 5), DIR/worst-R-NAME.{json,ply,png}:\n"
          "'vfsd deform' on the .json reproduces the scene. --only INDEX runs scene INDEX alone.\n"

@@ -51,6 +51,7 @@ TEST_CASE("Rendered scene shows s = 0 in blue and s = 1 in red", "[gpu][render]"
         deformation.advance(t);
         gpu::RenderOptions options;
         options.current_time = t;
+        options.vertex_origin = deformation.passes().vertex_origin();
         const std::vector<std::uint8_t> image =
             gpu::render_image(renderer, deformation.passes().vertex_texture(), camera, 160, 120, options);
         REQUIRE(image.size() == 160u * 120u * 4u);

@@ -18,6 +18,7 @@ public:
     double ms_per_step() const override { return ms_per_step_; }
     std::string backend() const override { return "gpu"; }
     const gpu::Texture& vertex_texture() const { return deformation_.passes().vertex_texture(); }
+    const Vec3& vertex_origin() const { return deformation_.passes().vertex_origin(); }
 
 private:
     gpu::GpuDeformation deformation_;

@@ -38,13 +38,9 @@ GpuDeformation::GpuDeformation(const std::vector<Vec3>& positions, const VertexR
 
 int GpuDeformation::advance(double target, int max_steps) {
     target = std::clamp(target, 0.0, 1.0);
-    const double n = options_.steps;
     int taken = 0;
     while (taken < max_steps && time_ != target) {
-        // The same grid walk as Deformation::advance.
-        const double k = time_ * n;
-        double next = target > time_ ? (std::floor(k + 1e-9) + 1.0) / n : (std::ceil(k - 1e-9) - 1.0) / n;
-        if ((target > time_) == (next > target)) next = target;
+        const double next = next_time_on_grid(time_, target, options_.steps);  // the CPU's grid walk
         step(next - time_);
         time_ = next;
         ++taken;

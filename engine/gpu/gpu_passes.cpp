@@ -7,6 +7,7 @@
 #include "base/error.h"
 #include "gpu/capabilities.h"
 #include "gpu/gpu_error.h"
+#include "mesh/geometry.h"
 
 namespace vfsd::gpu {
 namespace {
@@ -30,16 +31,17 @@ Program fullscreen_program(const char* name, const char* fragment, bool with_fie
     return Program(name, {"fullscreen.vert"}, files);
 }
 
-void set_motion(const Program& p, const std::string& name, const MotionSample& m) {
+// The points of `m` are taken relative to `origin`, as the textures hold positions.
+void set_motion(const Program& p, const std::string& name, const MotionSample& m, const Vec3& origin) {
     auto set3 = [&](const char* field, const Vec3& v) {
         p.set((name + "." + field).c_str(), float(v.x), float(v.y), float(v.z));
     };
-    set3("position", m.position);
+    set3("position", m.position - origin);
     set3("velocity", m.velocity);
     set3("angular_velocity", m.angular_velocity);
     set3("twist", m.twist);
-    set3("stream_origin", m.stream_origin);
-    set3("twist_origin", m.twist_origin);
+    set3("stream_origin", m.stream_origin - origin);
+    set3("twist_origin", m.twist_origin - origin);
 }
 
 }  // namespace
@@ -52,6 +54,7 @@ GpuPasses::GpuPasses(const std::vector<Vec3>& positions, const std::vector<doubl
     const Capabilities caps = query_capabilities();
     require_gpu_support(caps, std::max(count_, rings.neighbours.size()));
     layout_ = TextureLayout::for_count(count_, caps.max_texture_size);
+    origin_ = bounding_box(positions).centre();
 
     // Connectivity: ring offsets and lengths per vertex, then the ring entries.
     std::vector<std::int32_t> ring_data(layout_.texels() * 2, 0);
@@ -147,7 +150,7 @@ void GpuPasses::smooth_gradients(int steps, double weight, bool tangent) {
 
 void GpuPasses::predict_midpoints(const MotionSample& start, double h) {
     bind_mesh(predict_program_);
-    set_motion(predict_program_, "u_start", start);
+    set_motion(predict_program_, "u_start", start, origin_);
     predict_program_.set("u_h", static_cast<float>(h));
     vertex_[current_].texture.bind(kUnitPositions);
     gradient_[current_gradient_].texture.bind(kUnitGradients);
@@ -156,9 +159,9 @@ void GpuPasses::predict_midpoints(const MotionSample& start, double h) {
 
 void GpuPasses::deformation_step(const StepMotion& motion) {
     bind_mesh(deform_program_);
-    set_motion(deform_program_, "u_start", motion.start);
-    set_motion(deform_program_, "u_middle", motion.middle);
-    set_motion(deform_program_, "u_end", motion.end);
+    set_motion(deform_program_, "u_start", motion.start, origin_);
+    set_motion(deform_program_, "u_middle", motion.middle, origin_);
+    set_motion(deform_program_, "u_end", motion.end, origin_);
     deform_program_.set("u_h", static_cast<float>(motion.h));
     vertex_[current_].texture.bind(kUnitPositions);
     gradient_[current_gradient_].texture.bind(kUnitGradients);
@@ -166,38 +169,38 @@ void GpuPasses::deformation_step(const StepMotion& motion) {
     current_ = 1 - current_;
 }
 
-std::vector<float> GpuPasses::packed(const std::vector<Vec3>& xyz, bool with_s) const {
+std::vector<float> GpuPasses::packed(const std::vector<Vec3>& xyz, bool with_s, const Vec3& origin) const {
     if (xyz.size() != count_)
         throw InputError("GPU passes: " + std::to_string(xyz.size()) + " values for " + std::to_string(count_) +
                          " vertices");
     std::vector<float> data(layout_.texels() * 4, 0.0f);
     for (std::size_t v = 0; v < count_; ++v) {
-        data[4 * v] = static_cast<float>(xyz[v].x);
-        data[4 * v + 1] = static_cast<float>(xyz[v].y);
-        data[4 * v + 2] = static_cast<float>(xyz[v].z);
+        data[4 * v] = static_cast<float>(xyz[v].x - origin.x);
+        data[4 * v + 1] = static_cast<float>(xyz[v].y - origin.y);
+        data[4 * v + 2] = static_cast<float>(xyz[v].z - origin.z);
         data[4 * v + 3] = with_s ? s_[v] : 0.0f;
     }
     return data;
 }
 
 void GpuPasses::set_positions(const std::vector<Vec3>& positions) {
-    vertex_[current_].texture.upload(packed(positions, true).data());
+    vertex_[current_].texture.upload(packed(positions, true, origin_).data());
 }
 
 void GpuPasses::set_gradients(const std::vector<Vec3>& gradients) {
-    gradient_[current_gradient_].texture.upload(packed(gradients, false).data());
+    gradient_[current_gradient_].texture.upload(packed(gradients, false, Vec3(0.0)).data());
 }
 
-std::vector<Vec3> GpuPasses::read(const Target& target) const {
+std::vector<Vec3> GpuPasses::read(const Target& target, const Vec3& origin) const {
     const std::vector<float> data = target.framebuffer.read_rgba32f();
     std::vector<Vec3> out(count_);
-    for (std::size_t v = 0; v < count_; ++v) out[v] = Vec3(data[4 * v], data[4 * v + 1], data[4 * v + 2]);
+    for (std::size_t v = 0; v < count_; ++v) out[v] = origin + Vec3(data[4 * v], data[4 * v + 1], data[4 * v + 2]);
     return out;
 }
 
-std::vector<Vec3> GpuPasses::read_positions() const { return read(vertex_[current_]); }
-std::vector<Vec3> GpuPasses::read_midpoints() const { return read(midpoint_); }
-std::vector<Vec3> GpuPasses::read_normals() const { return read(normal_); }
-std::vector<Vec3> GpuPasses::read_gradients() const { return read(gradient_[current_gradient_]); }
+std::vector<Vec3> GpuPasses::read_positions() const { return read(vertex_[current_], origin_); }
+std::vector<Vec3> GpuPasses::read_midpoints() const { return read(midpoint_, origin_); }
+std::vector<Vec3> GpuPasses::read_normals() const { return read(normal_, Vec3(0.0)); }
+std::vector<Vec3> GpuPasses::read_gradients() const { return read(gradient_[current_gradient_], Vec3(0.0)); }
 
 }  // namespace vfsd::gpu

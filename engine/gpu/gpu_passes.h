@@ -54,8 +54,11 @@ public:
     std::vector<Vec3> read_normals() const;
     std::vector<Vec3> read_gradients() const;
 
-    // The current vertex texture (xyz + s), for drawing without read-back.
+    // The current vertex texture (xyz + s), for drawing without read-back. Its
+    // positions are relative to vertex_origin(), the centre of the mesh's bounding
+    // box at upload: float32 keeps its precision for a mesh far from the origin.
     const Texture& vertex_texture() const { return vertex_[current_].texture; }
+    const Vec3& vertex_origin() const { return origin_; }
     std::size_t vertex_count() const { return count_; }
     const TextureLayout& layout() const { return layout_; }
 
@@ -68,11 +71,12 @@ private:
     const Texture& source(At at) const;
     void bind_mesh(const Program& program) const;
     void draw(const Target& target) const;
-    std::vector<float> packed(const std::vector<Vec3>& xyz, bool with_s) const;
-    std::vector<Vec3> read(const Target& target) const;
+    std::vector<float> packed(const std::vector<Vec3>& xyz, bool with_s, const Vec3& origin) const;
+    std::vector<Vec3> read(const Target& target, const Vec3& origin) const;
 
     std::size_t count_ = 0;
     TextureLayout layout_;
+    Vec3 origin_{0.0};
     std::vector<float> s_;  // s as uploaded (float32, see upload rules in the .cpp)
     Texture rings_, neighbours_;
     Target vertex_[2], midpoint_, normal_, gradient_[2];

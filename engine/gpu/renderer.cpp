@@ -153,7 +153,15 @@ void Renderer::draw(const Texture& vertex_texture, const float view[16], const f
 
     // The mesh, from the vertex texture; pushed back a little so the wireframe shows.
     mesh_program_.use();
-    mesh_program_.set_mat4("u_view", view);
+    // The texture's positions are relative to options.vertex_origin: moved there
+    // in the view matrix, in double precision.
+    float mesh_view[16];
+    for (int i = 0; i < 16; ++i) mesh_view[i] = view[i];
+    for (int row = 0; row < 4; ++row)  // view × translate(origin): column 3 += view's first three columns · origin
+        mesh_view[12 + row] = float(double(view[12 + row]) + double(view[row]) * options.vertex_origin.x +
+                                    double(view[4 + row]) * options.vertex_origin.y +
+                                    double(view[8 + row]) * options.vertex_origin.z);
+    mesh_program_.set_mat4("u_view", mesh_view);
     mesh_program_.set_mat4("u_projection", projection);
     mesh_program_.set("u_width", vertex_texture.width());
     mesh_program_.set("u_positions", 0);

@@ -36,6 +36,7 @@ struct RenderOptions {
     double target_time = 1.0;   // dark sphere at c(target_time)
     bool wireframe = false;
     bool show_curve = true;
+    Vec3 vertex_origin{0.0};  // what the vertex texture's positions are relative to (GpuPasses::vertex_origin)
 };
 
 class Renderer {
