@@ -12,6 +12,37 @@
 
 namespace vfsd {
 
+namespace {
+
+// Which blend vertices the gauge is fitted to: all of a blend region of at most
+// kGaugeSamples vertices, else the vertices at kGaugeSamples even steps through
+// the blend region ordered by s, each with every vertex of equal s (to 1e-9: a
+// symmetric mesh's mirror images, whatever the rounding of s): a set that
+// depends neither on the order of the input's vertices nor on where the mesh is
+// placed. (The final shape differs between sample sets by up to a few percent of
+// the diagonal, so the set must be canonical.) Where s takes so few values that
+// this would be more than four times kGaugeSamples vertices (a mesh symmetric
+// about the curve, such as a finely meshed cylinder), the steps' vertices alone
+// are taken, and mirror images are told apart by the vertex order.
+std::vector<std::uint32_t> gauge_samples(const std::vector<double>& s, const std::vector<std::uint32_t>& blend) {
+    constexpr std::size_t kGaugeSamples = 512;
+    if (blend.size() <= kGaugeSamples) return blend;
+    std::vector<std::pair<long long, std::uint32_t>> keyed;
+    for (const std::uint32_t v : blend) keyed.push_back({std::llround(s[v] * 1e9), v});
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<long long> chosen;  // the keys at kGaugeSamples even steps through the order
+    for (std::size_t k = 0; k < kGaugeSamples; ++k) chosen.push_back(keyed[k * keyed.size() / kGaugeSamples].first);
+    std::vector<std::uint32_t> samples;
+    for (const auto& [key, v] : keyed)
+        if (std::binary_search(chosen.begin(), chosen.end(), key)) samples.push_back(v);
+    if (samples.size() <= 4 * kGaugeSamples) return samples;
+    samples.clear();
+    for (std::size_t k = 0; k < kGaugeSamples; ++k) samples.push_back(keyed[k * keyed.size() / kGaugeSamples].second);
+    return samples;
+}
+
+}  // namespace
+
 Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
                          DeformationOptions options)
     : positions_(std::move(positions)),
@@ -33,6 +64,7 @@ Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region 
         rings_ = reorder_rings(rings_, order_);
         s_ = gather_in_order(region_.s, order_);
         parts_ = RegionParts::of(s_, rings_);
+        gauge_samples_ = gauge_samples(s_, parts_.blend);
         input_order_.resize(positions_.size());
         if (options_.keep_volume) volume_ = VolumeKeeper(positions_, s_, rings_, parts_.blend);
     }
@@ -108,14 +140,10 @@ const std::vector<Vec3>& Deformation::positions() const {
     return input_order_;
 }
 
-// The gauge of the step's three motion samples, fitted to the blend region at
-// `at` (at most kGaugeSamples of its vertices, spread over it) with the current ∇r.
+// The gauge of the step's three motion samples, fitted at `at` with the current ∇r.
 void Deformation::fit_stream_gauge(const std::vector<Vec3>& at, StepMotion& motion) const {
-    constexpr std::size_t kGaugeSamples = 512;  // all of a smaller blend region: then no vertex order matters
-    const std::size_t n = parts_.blend.size(), stride = (n + kGaugeSamples - 1) / kGaugeSamples;
     std::vector<GaugeSample> samples;
-    for (std::size_t i = 0; i < n; i += stride) {
-        const std::uint32_t v = parts_.blend[i];
+    for (const std::uint32_t v : gauge_samples_) {
         const double weight = (1.0 - bernstein_blend(s_[v])) * bernstein_blend_derivative(s_[v]);
         samples.push_back({at[v], weight * gradients_[v]});
     }

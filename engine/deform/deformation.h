@@ -97,6 +97,7 @@ private:
     SmoothingScratch smoothing_;
     bool have_gradients_ = false;  // gradients_ hold the last step's ∇r
     std::vector<double> step_ms_;
+    std::vector<std::uint32_t> gauge_samples_;  // the blend vertices the stream's gauge is fitted to
     VolumeKeeper volume_;
     double volume_restored_ = 0.0;  // Σ |drift undone|
 };
