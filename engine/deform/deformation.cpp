@@ -74,6 +74,10 @@ Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region 
     midpoints_ = positions_;
 }
 
+const char* const kGpuUnmirroredReason =
+    "the GPU passes do not fit the stream's gauge or keep the volume yet (docs/gpu.md); the CPU runs them, or set "
+    "\"stream_gauge\": \"paper\" and \"keep_volume\": false";
+
 bool gpu_mirrors(const DeformationOptions& options) {
     return !options.fit_stream_gauge && !options.keep_volume;
 }

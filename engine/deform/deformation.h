@@ -33,6 +33,8 @@ struct DeformationOptions {
 // Whether the GPU passes (engine/gpu) take every step these options ask for: they
 // mirror sec. 5 with either smoothing, not the stream gauge fit or the volume keeper.
 bool gpu_mirrors(const DeformationOptions& options);
+// Why the GPU does not take options it does not mirror (for messages).
+extern const char* const kGpuUnmirroredReason;
 // The options with the steps only the CPU takes turned off.
 DeformationOptions gpu_mirrored(DeformationOptions options);
 

@@ -119,8 +119,17 @@ std::string copy_beside(const std::string& source, const std::string& scene_path
 
 EditorSession::EditorSession(DeformationFactory gpu, std::string gpu_reason)
     : gpu_(std::move(gpu)), gpu_reason_(std::move(gpu_reason)) {
-    stats_.backend = gpu_ ? "gpu" : "cpu";
-    stats_.backend_reason = gpu_ ? "" : gpu_reason_;
+    predict_backend();
+}
+
+// The backend the next deformation will use, and why not the GPU, until one runs.
+void EditorSession::predict_backend() {
+    const bool gpu = gpu_ && !force_cpu_ && gpu_mirrors(doc_.scene.options);
+    stats_.backend = gpu ? "gpu" : "cpu";
+    stats_.backend_reason = gpu               ? ""
+                            : !gpu_           ? gpu_reason_
+                            : force_cpu_      ? "CPU chosen"
+                                              : kGpuUnmirroredReason;
 }
 
 // ---- loading and saving --------------------------------------------------
@@ -485,6 +494,7 @@ void EditorSession::drop_deformation() {
     stats_.volume_error_percent = 0.0;
     stats_.flipped_triangles = 0;
     stats_.first_fold_time = -1.0;
+    predict_backend();
     ++revision_;
 }
 

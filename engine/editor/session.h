@@ -172,6 +172,7 @@ private:
     void apply_edit(const Edit& edit, bool forward);
     void set_target(double t);
     void drop_deformation();
+    void predict_backend();
     void ensure_deformation();
     void update_stats();
 

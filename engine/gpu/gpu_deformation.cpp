@@ -31,9 +31,7 @@ GpuDeformation::GpuDeformation(const std::vector<Vec3>& positions, const VertexR
       passes_(positions, checked_s(region_, positions.size()), rings) {
     if (options_.steps < 1) throw InputError("steps must be at least 1");
     if (options_.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
-    if (!gpu_mirrors(options_))
-        throw GpuUnavailable("the GPU passes do not fit the stream's gauge or keep the volume yet (docs/gpu.md); "
-                             "the CPU runs them, or set \"stream_gauge\": \"paper\" and \"keep_volume\": false");
+    if (!gpu_mirrors(options_)) throw GpuUnavailable(kGpuUnmirroredReason);
 }
 
 int GpuDeformation::advance(double target, int max_steps) {
