@@ -306,6 +306,7 @@ void App::draw_scene() {
     render.target_time = session_->target_time();
     render.wireframe = wireframe_;
     if (on_gpu) render.vertex_origin = on_gpu->vertex_origin();
+    render.highlight = &session_->folded_triangles();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glEnable(GL_MULTISAMPLE);
     renderer_->draw(on_gpu ? on_gpu->vertex_texture() : *cpu_vertices_, glm::value_ptr(view),

@@ -270,7 +270,7 @@ void App::draw_panels() {
         }
         ImGui::Text("%.3f ms/step, volume error %.3f%%", st.ms_per_step, st.volume_error_percent);
         if (st.flipped_triangles > 0 && st.first_fold_time >= 0.0)
-            ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.3f, 1.0f), "flipped triangles: %zu (folding since t = %.2f)",
+            ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.3f, 1.0f), "flipped triangles: %zu (since t = %.2f)",
                                st.flipped_triangles, st.first_fold_time);
         else
             ImGui::Text("flipped triangles: %zu", st.flipped_triangles);

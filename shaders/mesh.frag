@@ -1,6 +1,7 @@
 // s colour-coded from blue (0, inner region) to red (1, outer region), the two
 // separation lines (s leaving 0 and reaching 1) highlighted, flat-shaded from
-// screen-space derivatives. u_wire draws the edges in one dark colour instead.
+// screen-space derivatives. u_wire = 1 draws the edges in one dark colour
+// instead, u_wire = 2 folded triangles in magenta.
 in vec3 v_view_position;
 in float v_s;
 uniform int u_wire;
@@ -14,6 +15,7 @@ float level_line(float s, float level) {
 
 void main() {
     if (u_wire == 1) { o_colour = vec4(0.08, 0.08, 0.1, 1.0); return; }
+    if (u_wire == 2) { o_colour = vec4(0.95, 0.15, 0.9, 1.0); return; }
     vec3 n = normalize(cross(dFdx(v_view_position), dFdy(v_view_position)));
     vec3 to_eye = normalize(-v_view_position);
     if (dot(n, to_eye) < 0.0) n = -n;  // two-sided

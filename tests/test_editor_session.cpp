@@ -8,9 +8,12 @@
 #include <filesystem>
 
 #include "base/error.h"
+#include "deform/quality.h"
+#include "io/mesh_file.h"
 #include "editor/script.h"
 #include "editor/session.h"
 #include "region/selectors.h"
+#include "test_fold_support.h"
 #include "test_io_support.h"
 
 using namespace vfsd;
@@ -187,19 +190,15 @@ TEST_CASE("Scripts: JSON lines and arrays parse; errors name the line", "[editor
 }
 
 TEST_CASE("The session says when its deformation started to fold", "[editor]") {
-    // The box of fig. 5 twisted by 180° with sec. 5 as printed and no smoothing folds.
-    Scene scene = load_scene(std::string(VFSD_SOURCE_DIR) + "/assets/scenes/fig05-box-bend-twist.json");
-    scene.twist_degrees[1] = 180.0;
-    scene.options.fit_stream_gauge = scene.options.keep_volume = false;
-    scene.options.tangent_smoothing = true;
-    scene.options.smoothing_steps = 0;
-    scene.options.steps = 40;
     EditorSession session;
-    session.open_scene(scene);
+    session.open_scene(test::folding_box_scene());
     CHECK(session.stats().first_fold_time == -1.0);
     session.play();
     run_to_target(session);
     CHECK(session.stats().flipped_triangles > 0);
+    CHECK(session.folded_triangles().size() == session.stats().flipped_triangles);
+    CHECK(session.folded_triangles() == flipped_triangle_list(load_mesh_file("builtin:box").mesh.positions,
+                                                              session.positions(), session.triangles()));
     CHECK(session.stats().first_fold_time > 0.0);
     CHECK(session.stats().first_fold_time <= 1.0);
     session.set_target_time(0.0);  // back to the start: the record stays until the deformation is rebuilt

@@ -8,10 +8,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "deform/quality.h"
 #include "gpu/gl_objects.h"
 #include "gpu/gpu_deformation.h"
 #include "gpu/renderer.h"
 #include "scene/prepared_scene.h"
+#include "test_fold_support.h"
 #include "test_gpu_support.h"
 
 using namespace vfsd;
@@ -61,6 +63,34 @@ TEST_CASE("Rendered scene shows s = 0 in blue and s = 1 in red", "[gpu][render]"
         CHECK(c.red > 50);
         CHECK(c.background > 160 * 120 / 3);
     }
+}
+
+TEST_CASE("Folded triangles are drawn in magenta when asked for", "[gpu][render]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    const PreparedScene prepared = prepare_scene(test::folding_box_scene());
+    Deformation deformation = prepared.start_deformation();
+    deformation.advance(1.0);
+    const auto& triangles = prepared.file.mesh.triangles;
+    const std::vector<std::uint32_t> folded =
+        flipped_triangle_list(prepared.file.mesh.positions, deformation.positions(), triangles);
+    REQUIRE(!folded.empty());
+    const gpu::Camera camera =
+        gpu::Camera::framing(gpu::deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion));
+    const gpu::Renderer renderer(triangles, prepared.motion);
+    const gpu::Texture vertices = gpu::make_vertex_texture(deformation.positions(), prepared.region.s);
+    const auto magenta = [](const std::vector<std::uint8_t>& rgba) {
+        int n = 0;
+        for (std::size_t i = 0; i + 3 < rgba.size(); i += 4)
+            n += rgba[i] > 200 && rgba[i + 1] < 80 && rgba[i + 2] > 190;
+        return n;
+    };
+    gpu::RenderOptions options;
+    options.current_time = 1.0;
+    CHECK(magenta(gpu::render_image(renderer, vertices, camera, 320, 240, options)) == 0);
+    options.highlight = &folded;
+    const int shown = magenta(gpu::render_image(renderer, vertices, camera, 320, 240, options));
+    INFO(folded.size() << " folded triangles, " << shown << " magenta pixels");
+    CHECK(shown > 0);
 }
 
 TEST_CASE("vfsd render and vfsd deform --backend gpu run headless", "[gpu][render][cli]") {

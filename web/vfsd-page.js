@@ -222,7 +222,7 @@
     $('stat-ms').textContent = fmt(st.ms_per_step);
     $('stat-volume').textContent = fmt(st.volume_error_percent) + ' %';
     $('stat-flipped').textContent = st.flipped_triangles +
-        (st.flipped_triangles > 0 && st.first_fold_time >= 0 ? ` (folding since t = ${st.first_fold_time.toFixed(2)})` : '');
+        (st.flipped_triangles > 0 && st.first_fold_time >= 0 ? ` (since t = ${st.first_fold_time.toFixed(2)})` : '');
     $('stat-history').textContent = s.undo + ' / ' + s.redo;
     const note = $('backend-note');
     note.hidden = st.backend === 'gpu';

@@ -493,6 +493,7 @@ void EditorSession::drop_deformation() {
     stats_.ms_per_step = 0.0;
     stats_.volume_error_percent = 0.0;
     stats_.flipped_triangles = 0;
+    folded_.clear();
     stats_.first_fold_time = -1.0;
     predict_backend();
     ++revision_;
@@ -538,7 +539,8 @@ void EditorSession::update_stats() {
     const auto& mesh = doc_.file.mesh;
     const double volume = signed_volume(now, mesh.triangles);
     stats_.volume_error_percent = base_volume_ != 0.0 ? 100.0 * std::abs(volume - base_volume_) / std::abs(base_volume_) : 0.0;
-    stats_.flipped_triangles = count_flipped_triangles(mesh.positions, now, mesh.triangles);
+    folded_ = flipped_triangle_list(mesh.positions, now, mesh.triangles);
+    stats_.flipped_triangles = folded_.size();
     if (stats_.flipped_triangles > 0 && stats_.first_fold_time < 0.0) stats_.first_fold_time = time();
 }
 

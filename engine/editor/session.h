@@ -143,6 +143,9 @@ public:
     std::uint64_t document_revision() const { return document_revision_; }
 
     const SessionStats& stats() const { return stats_; }
+    // The triangles that face against their neighbours now (stats().flipped_triangles
+    // of them), as indices into the mesh's triangles: what the editors highlight.
+    const std::vector<std::uint32_t>& folded_triangles() const { return folded_; }
     // Mesh, region and curve warnings, the last runtime error and the autosave's problem.
     std::vector<std::string> warnings() const;
     // The autosave's last problem (editor/autosave.h); empty clears it.
@@ -182,6 +185,7 @@ private:
 
     Document doc_;
     std::vector<double> s_;
+    std::vector<std::uint32_t> folded_;
     std::vector<std::string> region_warnings_, curve_warnings_;
     std::string runtime_error_, autosave_warning_;
     InnerMotion motion_;

@@ -35,6 +35,7 @@ void SessionView::draw(const EditorSession& session, Camera& camera, const Viewp
     options.target_time = session.target_time();
     options.wireframe = wireframe;
     if (on_gpu) options.vertex_origin = on_gpu->vertex_origin();
+    options.highlight = &session.folded_triangles();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     renderer_->draw(on_gpu ? on_gpu->vertex_texture() : *cpu_vertices_, glm::value_ptr(view),
                     glm::value_ptr(projection), 0.018 * session.diagonal(), viewport.width, viewport.height, options);

@@ -98,6 +98,7 @@ void Camera::matrices(double aspect, float view[16], float projection[16]) const
 
 Renderer::Renderer(const std::vector<Triangle>& triangles, InnerMotion motion)
     : motion_(std::move(motion)),
+      triangles_(triangles),
       mesh_program_("mesh", {"mesh.vert"}, {"mesh.frag"}),
       solid_program_("curve and spheres", {"solid.vert"}, {"solid.frag"}) {
     // Mesh: triangle and edge indices into the vertex texture.
@@ -173,6 +174,16 @@ void Renderer::draw(const Texture& vertex_texture, const float view[16], const f
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, triangle_indices_.id());
     glDrawElements(GL_TRIANGLES, triangle_index_count_, GL_UNSIGNED_INT, nullptr);
     glDisable(GL_POLYGON_OFFSET_FILL);
+    if (options.highlight && !options.highlight->empty()) {
+        std::vector<Triangle> picked;
+        for (const std::uint32_t t : *options.highlight)
+            if (t < triangles_.size()) picked.push_back(triangles_[t]);
+        const Buffer indices(GL_ELEMENT_ARRAY_BUFFER, picked.data(), picked.size() * sizeof(Triangle));
+        mesh_program_.set("u_wire", 2);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices.id());
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * picked.size()), GL_UNSIGNED_INT, nullptr);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, triangle_indices_.id());
+    }
     if (options.wireframe) {
         mesh_program_.set("u_wire", 1);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, edge_indices_.id());

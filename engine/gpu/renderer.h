@@ -37,6 +37,9 @@ struct RenderOptions {
     bool wireframe = false;
     bool show_curve = true;
     Vec3 vertex_origin{0.0};  // what the vertex texture's positions are relative to (GpuPasses::vertex_origin)
+    // Triangles to draw in magenta (indices into the renderer's triangles): the
+    // folds the editors highlight. Not owned; null or empty for none.
+    const std::vector<std::uint32_t>* highlight = nullptr;
 };
 
 class Renderer {
@@ -59,6 +62,7 @@ private:
     void upload_curve();
 
     InnerMotion motion_;
+    std::vector<Triangle> triangles_;
     Program mesh_program_, solid_program_;
     Buffer triangle_indices_, edge_indices_, curve_points_, sphere_points_, sphere_indices_;
     VertexArray mesh_vao_, curve_vao_, sphere_vao_;
