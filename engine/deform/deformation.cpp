@@ -114,15 +114,21 @@ void Deformation::step(double h) {
         deformation_step(motion, *region_.sphere_tool, next_);
         check_finite(next_);
     } else {
-        // The gauge, like ∇r, is taken where the step's middle is (predicted with
-        // the gauge and ∇r at its start), so that a step back retraces the step.
-        if (!options_.gradients_at_midpoint || !have_gradients_) estimate_surface_gradients(positions_);
-        if (options_.fit_stream_gauge) fit_stream_gauge(positions_, motion);
+        // The gauge, like ∇r, is taken where the step's middle is, so that a step
+        // back retraces the step; the midpoints are predicted with the last step's
+        // ∇r and gauge fit, as sec. 5 with midpoint gradients does for ∇r alone.
+        if (!options_.gradients_at_midpoint || !have_gradients_) {
+            estimate_surface_gradients(positions_);
+            if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(positions_);
+        }
+        if (options_.fit_stream_gauge) motion.start.gauge = gauge_fit_->gauge_for(motion.start);
         if (options_.gradients_at_midpoint) {
             predict_midpoints(motion.start, h, s_, parts_, gradients_, positions_, midpoints_);
             estimate_surface_gradients(midpoints_);
-            if (options_.fit_stream_gauge) fit_stream_gauge(midpoints_, motion);
+            if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(midpoints_);
         }
+        if (options_.fit_stream_gauge)
+            for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
         deformation_step(motion, s_, parts_, gradients_, positions_, next_);
         check_finite(next_);
     }
@@ -144,15 +150,14 @@ const std::vector<Vec3>& Deformation::positions() const {
     return input_order_;
 }
 
-// The gauge of the step's three motion samples, fitted at `at` with the current ∇r.
-void Deformation::fit_stream_gauge(const std::vector<Vec3>& at, StepMotion& motion) const {
+// The stream gauge's fit to the blend region at `at` with the current ∇r.
+GaugeFit Deformation::fit_stream_gauge(const std::vector<Vec3>& at) const {
     std::vector<GaugeSample> samples;
     for (const std::uint32_t v : gauge_samples_) {
         const double weight = (1.0 - bernstein_blend(s_[v])) * bernstein_blend_derivative(s_[v]);
         samples.push_back({at[v], weight * gradients_[v]});
     }
-    const GaugeFit fit(std::move(samples));
-    for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = fit.gauge_for(*m);
+    return GaugeFit(std::move(samples));
 }
 
 double Deformation::volume_restored_percent() const {

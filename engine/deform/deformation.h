@@ -12,6 +12,7 @@
 #include "curve/inner_motion.h"
 #include "deform/passes.h"
 #include "deform/volume_keeper.h"
+#include "field/stream_gauge.h"
 #include "mesh/vertex_rings.h"
 
 namespace vfsd {
@@ -78,7 +79,7 @@ private:
     void step(double h);
     void check_finite(const std::vector<Vec3>& candidate) const;
     void estimate_surface_gradients(const std::vector<Vec3>& at);
-    void fit_stream_gauge(const std::vector<Vec3>& at, StepMotion& motion) const;
+    GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
 
     // positions_, rings_ and s_ are in the work order: vertex i is input vertex
     // order_[i] (mesh/vertex_order.h); order_ is empty for the sphere tool.
@@ -100,6 +101,7 @@ private:
     bool have_gradients_ = false;  // gradients_ hold the last step's ∇r
     std::vector<double> step_ms_;
     std::vector<std::uint32_t> gauge_samples_;  // the blend vertices the stream's gauge is fitted to
+    std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
     VolumeKeeper volume_;
     double volume_restored_ = 0.0;  // Σ |drift undone|
 };
