@@ -65,14 +65,20 @@ std::string session_script(const Scratch& s, const std::string& tag) {
            "{\"action\": \"screenshot\", \"path\": \"" + p + "-end.png\"}\n";
 }
 
-// Runs the app on a script (its text), with the autosave in the scratch folder.
+// Runs the app on a script (its text), with the autosave in the scratch folder;
+// returns the app's own exit status (-1 when it did not record one). xvfb-run's
+// status is not the app's: its clean-up has returned 5 under load.
 int run_script(const Scratch& s, const std::string& tag, const std::string& script_text, const std::string& options) {
-    const std::string script = s.file(tag + ".jsonl");
+    const std::string script = s.file(tag + ".jsonl"), status = s.file(tag + ".status");
     std::ofstream(script) << script_text;
+    std::filesystem::remove(status);
     // Mesa and GLFW keep some memory to the end: no leak report from a sanitizer build.
-    return run("ASAN_OPTIONS=detect_leaks=0 VFSD_AUTOSAVE_DIR='" + s.file("autosave") +
-               "' xvfb-run -a -s '-screen 0 1280x800x24' '" VFSD_DESKTOP_PATH "' --script '" + script +
-               "' --exit-after-script " + options + " >'" + s.file(tag + ".log") + "' 2>&1");
+    run("ASAN_OPTIONS=detect_leaks=0 VFSD_AUTOSAVE_DIR='" + s.file("autosave") +
+        "' xvfb-run -a -s '-screen 0 1280x800x24' sh -c '\"$0\" \"$@\"; echo $? >\"" + status + "\"' '" VFSD_DESKTOP_PATH
+        "' --script '" + script + "' --exit-after-script " + options + " >'" + s.file(tag + ".log") + "' 2>&1");
+    int code = -1;
+    std::ifstream(status) >> code;
+    return code;
 }
 
 int run_app(const Scratch& s, const std::string& tag, const std::string& options) {
