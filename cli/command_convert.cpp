@@ -1,9 +1,10 @@
-// vfsd convert IN OUT [--force] [--keep-layout] [--double]
+// vfsd convert IN OUT [--force] [--keep-layout] [--double] [--subdivide N]
 //
 // Reads IN (a mesh file or builtin:NAME[:RESOLUTION]), welds it, and writes OUT
 // atomically. --keep-layout writes the file's own vertex layout instead of the
 // welded mesh (e.g. STL's three vertices per triangle); --double stores PLY
-// positions as float64.
+// positions as float64; --subdivide N splits every triangle into four at its
+// edge midpoints N times (mesh/subdivision.h).
 
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "base/error.h"
 #include "cli/commands.h"
 #include "io/mesh_file.h"
+#include "mesh/subdivision.h"
 
 namespace vfsd::cli {
 namespace {
@@ -30,14 +32,19 @@ void check_output(const std::string& in, const std::string& out, bool force) {
 }  // namespace
 
 int run_convert(const Args& args) {
-    args.expect({"force", "keep-layout", "double"}, 2, 2);
+    args.expect({"force", "keep-layout", "double", "subdivide"}, 2, 2);
+    const double levels = args.get_number("subdivide", 0.0);
+    if (levels < 0.0 || levels > 6.0 || levels != static_cast<int>(levels))
+        throw UsageError("--subdivide expects a whole number from 0 to 6");
+    if (levels > 0.0 && args.has("keep-layout")) throw UsageError("--subdivide and --keep-layout exclude each other");
     const std::string& in = args.positional(0, "input mesh");
     const std::string& out = args.positional(1, "output file");
     check_output(in, out, args.has("force"));
     const MeshFile file = load_mesh_file(in);
     WriteOptions options;
     options.double_positions = args.has("double");
-    const TriangleMesh mesh = args.has("keep-layout") ? to_file_layout(file, file.mesh) : file.mesh;
+    TriangleMesh mesh = args.has("keep-layout") ? to_file_layout(file, file.mesh) : file.mesh;
+    for (int level = 0; level < static_cast<int>(levels); ++level) mesh = subdivide_midpoints(mesh);
     write_mesh_file(out, mesh, options);
     std::printf("%s: %zu vertices, %zu triangles (%zu vertices in %s)\n", out.c_str(), mesh.vertex_count(),
                 mesh.triangle_count(), file.file_vertex_count(), in.c_str());

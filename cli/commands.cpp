@@ -14,13 +14,15 @@ const std::vector<Command>& commands() {
          "--json prints the same as one JSON object.\n",
          run_info},
         {"convert", "convert a mesh between formats",
-         "usage: vfsd convert IN OUT [--force] [--keep-layout] [--double]\n"
+         "usage: vfsd convert IN OUT [--force] [--keep-layout] [--double] [--subdivide N]\n"
          "\n"
          "Reads IN (.obj .off .ply .stl .gltf .glb or builtin:NAME) and writes OUT\n"
          "(.obj .off .ply .glb), atomically. OUT must differ from IN; an existing OUT\n"
          "is replaced only with --force.\n"
          "  --keep-layout  write IN's own vertex layout instead of the welded mesh\n"
-         "  --double       store PLY positions as float64\n",
+         "  --double       store PLY positions as float64\n"
+         "  --subdivide N  split every triangle into four at its edge midpoints, N times\n"
+         "                 (the same surface with 4^N times the triangles)\n",
          run_convert},
         {"deform", "deform a mesh as a scene file describes and report the result",
          "usage: vfsd deform SCENE.json --out OUT.{obj,off,ply,glb} [--report REPORT.json]\n"

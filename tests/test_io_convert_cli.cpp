@@ -60,4 +60,11 @@ TEST_CASE("vfsd convert reports bad input in one line with exit code 1, bad usag
     CHECK(convert(dir, "builtin:box " + quoted(dir.file("out.ply")) + " --colour red") == 2);
     CHECK(convert(dir, "builtin:box:2 " + quoted(dir.file("out.ply"))) == 0);
     CHECK(read_mesh_file(dir.file("out.ply")).mesh.triangle_count() > 0);
+    CHECK(convert(dir, "builtin:box:2 " + quoted(dir.file("sub.ply")) + " --subdivide -1") == 2);
+    CHECK(convert(dir, "builtin:box:2 " + quoted(dir.file("sub.ply")) + " --subdivide 1.5") == 2);
+    CHECK(convert(dir, "builtin:box:2 " + quoted(dir.file("sub.ply")) + " --subdivide 1 --keep-layout") == 2);
+    CHECK_FALSE(std::filesystem::exists(dir.file("sub.ply")));
+    REQUIRE(convert(dir, "builtin:box:2 " + quoted(dir.file("sub.ply")) + " --subdivide 2") == 0);
+    CHECK(read_mesh_file(dir.file("sub.ply")).mesh.triangle_count() ==
+          16 * read_mesh_file(dir.file("out.ply")).mesh.triangle_count());
 }

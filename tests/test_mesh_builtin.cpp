@@ -5,6 +5,7 @@
 #include "base/error.h"
 #include "mesh/builtin_meshes.h"
 #include "mesh/geometry.h"
+#include "mesh/subdivision.h"
 #include "mesh/validation.h"
 #include "mesh/vertex_rings.h"
 
@@ -106,4 +107,27 @@ TEST_CASE("built-in meshes reject unknown names and resolutions out of range", "
     CHECK_THROWS_AS(make_builtin_mesh("sphere", 40), InputError);
     CHECK_THROWS_AS(make_builtin_mesh("cylinder", 2), InputError);
     CHECK(builtin_mesh_names().size() == 4);
+}
+
+TEST_CASE("midpoint subdivision keeps the surface, closed and manifold, with V + E vertices and 4 F triangles",
+          "[mesh][subdivision]") {
+    for (const char* name : {"box", "cylinder", "sphere"}) {
+        INFO(name);
+        const TriangleMesh coarse = make_builtin_mesh(name, name == std::string("sphere") ? 2 : 6);
+        const TriangleMesh fine = subdivide_midpoints(coarse);
+        // Euler: a closed triangle mesh has E = 3F/2 edges.
+        CHECK(fine.vertex_count() == coarse.vertex_count() + 3 * coarse.triangle_count() / 2);
+        CHECK(fine.triangle_count() == 4 * coarse.triangle_count());
+        require_clean_closed(fine);
+        // The new vertices lie on the old edges, so the enclosed volume is unchanged.
+        const double before = signed_volume(coarse.positions, coarse.triangles);
+        CHECK(signed_volume(fine.positions, fine.triangles) == Approx(before).epsilon(1e-12));
+        for (std::size_t v = 0; v < coarse.vertex_count(); ++v) CHECK(fine.positions[v] == coarse.positions[v]);
+    }
+    // A placement of the new vertex: onto the unit sphere, as the icosphere places them.
+    const auto on_sphere = [](const Vec3& a, const Vec3& b) { return glm::normalize(a + b); };
+    const TriangleMesh sphere = subdivide_midpoints(make_builtin_mesh("sphere", 1), on_sphere);
+    const TriangleMesh level2 = make_builtin_mesh("sphere", 2);
+    REQUIRE(sphere.vertex_count() == level2.vertex_count());
+    for (std::size_t v = 0; v < sphere.vertex_count(); ++v) CHECK(glm::length(sphere.positions[v] - level2.positions[v]) < 1e-15);
 }

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <unordered_map>
 
 #include "base/error.h"
+#include "mesh/subdivision.h"
 
 namespace vfsd {
 namespace {
@@ -174,26 +174,8 @@ TriangleMesh icosphere(int levels) {
     mesh.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                       {11, 10, 2}, {10, 7, 6}, {7, 1, 8},   {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
                       {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-    for (int level = 0; level < levels; ++level) {
-        std::unordered_map<std::uint64_t, std::uint32_t> midpoints;
-        midpoints.reserve(mesh.triangles.size() * 2);
-        auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
-            const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-            auto [it, inserted] = midpoints.emplace(key, static_cast<std::uint32_t>(mesh.positions.size()));
-            if (inserted) mesh.positions.push_back(glm::normalize(mesh.positions[a] + mesh.positions[b]));
-            return it->second;
-        };
-        std::vector<Triangle> finer;
-        finer.reserve(mesh.triangles.size() * 4);
-        for (const Triangle& tri : mesh.triangles) {
-            const std::uint32_t ab = midpoint(tri[0], tri[1]), bc = midpoint(tri[1], tri[2]), ca = midpoint(tri[2], tri[0]);
-            finer.push_back({tri[0], ab, ca});
-            finer.push_back({tri[1], bc, ab});
-            finer.push_back({tri[2], ca, bc});
-            finer.push_back({ab, bc, ca});
-        }
-        mesh.triangles.swap(finer);
-    }
+    const auto on_sphere = [](const Vec3& a, const Vec3& b) { return glm::normalize(a + b); };
+    for (int level = 0; level < levels; ++level) mesh = subdivide_midpoints(mesh, on_sphere);
     return mesh;
 }
 
