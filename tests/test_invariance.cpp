@@ -12,6 +12,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "base/error.h"
+#include "deform/quality.h"
 #include "io/mesh_file.h"
 #include "mesh/geometry.h"
 #include "scene/prepared_scene.h"
@@ -159,4 +161,48 @@ TEST_CASE("place_scene: a box selector turned off the axes is refused, a mirror 
     CHECK(mirrored.twist_degrees[1] == -30.0);
     CHECK(mirrored.region.inner[0].a == Vec3(-1.0, -1.0, -1.0));
     CHECK(mirrored.region.inner[0].b == Vec3(1.0));
+}
+
+TEST_CASE("a scene 1e9 from the origin, or 1e-30 or 1e100 across, deforms as the unit one", "[invariance][extreme]") {
+    // The deformation integrates in a frame centred on the mesh and scaled to its
+    // size (deform/local_frame.h); in world coordinates the field's terms lost
+    // every digit at 1e9 and underflowed at 1e-30.
+    for (const auto& [scale, offset] : {std::pair{1.0, 1e9}, {1e-30, 0.0}, {1e-30, 3e-21}, {1e100, -2e102}}) {
+        Placement p;
+        p.scale = scale;
+        p.offset = Vec3(offset, -0.7 * offset, 0.4 * offset);
+        for (const auto kind : {RegionSpec::Kind::field, RegionSpec::Kind::geodesic, RegionSpec::Kind::painted}) {
+            for (int variant = 0; variant < 5; variant += 2) {
+                INFO("scale " << scale << ", offset " << offset << ", region kind " << int(kind) << ", variant " << variant);
+                CHECK(placement_error(kind, variant, p) < 1e-6);
+            }
+        }
+        // The measured volume keeps its digits too (the tetrahedra's apex at the mesh's centre).
+        const MeshFile file = load_mesh_file("builtin:box:6");
+        MeshFile placed = file;
+        place_mesh(placed.mesh, p);
+        const Scene scene = place_scene(box_scene(RegionSpec::Kind::painted, 0, file), p);
+        const PreparedScene prepared = prepare_scene(scene, placed);
+        Deformation d = prepared.start_deformation();
+        d.advance(1.0);
+        const DeformationQuality q =
+            measure_quality(placed.mesh.positions, d.positions(), placed.mesh.triangles, prepared.region.s);
+        INFO("scale " << scale << ", offset " << offset);
+        CHECK(q.volume_error_percent < 1e-4);
+        CHECK(q.outer_max_displacement == 0.0);
+    }
+}
+
+TEST_CASE("coordinates too large for the field are refused by name", "[invariance][extreme]") {
+    MeshFile file = load_mesh_file("builtin:box:6");
+    Placement p;
+    p.scale = 1e200;
+    place_mesh(file.mesh, p);
+    const Scene scene = place_scene(box_scene(RegionSpec::Kind::geodesic, 0, load_mesh_file("builtin:box:6")), p);
+    try {
+        prepare_scene(scene, file);
+        FAIL("a mesh 1e200 across was taken");
+    } catch (const InputError& e) {
+        CHECK_THAT(e.what(), Catch::Contains("builtin:box:6: coordinates too large"));
+    }
 }

@@ -59,13 +59,15 @@ Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region 
         if (rings_.vertex_count() != positions_.size()) throw InputError("rings do not match the mesh");
     }
     if (!region_.sphere_tool) {
+        frame_ = LocalFrame::of(positions_);
+        input_order_ = positions_;
+        for (Vec3& p : positions_) p = frame_.to_local(p);
         order_ = breadth_first_order(rings_);
         positions_ = gather_in_order(positions_, order_);
         rings_ = reorder_rings(rings_, order_);
         s_ = gather_in_order(region_.s, order_);
         parts_ = RegionParts::of(s_, rings_);
         gauge_samples_ = gauge_samples(s_, parts_.blend);
-        input_order_.resize(positions_.size());
         if (options_.keep_volume) volume_ = VolumeKeeper(positions_, s_, rings_, parts_.blend);
     }
     normals_.assign(positions_.size(), Vec3(0.0));
@@ -109,6 +111,7 @@ int Deformation::advance(double target, int max_steps) {
 void Deformation::step(double h) {
     const auto start = std::chrono::steady_clock::now();
     StepMotion motion = StepMotion::sample(motion_, time_, h);
+    for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) *m = frame_.to_local(*m);
     if (region_.sphere_tool) {
         next_ = positions_;
         deformation_step(motion, *region_.sphere_tool, next_);
@@ -144,7 +147,9 @@ void Deformation::step(double h) {
 const std::vector<Vec3>& Deformation::positions() const {
     if (order_.empty()) return positions_;
     if (!input_order_current_) {
-        for (std::size_t i = 0; i < order_.size(); ++i) input_order_[order_[i]] = positions_[i];
+        // The outer region does not move: input_order_ keeps its input positions.
+        for (const auto* part : {&parts_.inner, &parts_.blend})
+            for (const std::uint32_t v : *part) input_order_[order_[v]] = frame_.to_world(positions_[v]);
         input_order_current_ = true;
     }
     return input_order_;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "curve/inner_motion.h"
+#include "deform/local_frame.h"
 #include "deform/passes.h"
 #include "deform/volume_keeper.h"
 #include "field/stream_gauge.h"
@@ -83,6 +84,11 @@ private:
 
     // positions_, rings_ and s_ are in the work order: vertex i is input vertex
     // order_[i] (mesh/vertex_order.h); order_ is empty for the sphere tool.
+    // positions_ are in frame_'s local coordinates (deform/local_frame.h), the
+    // identity for the sphere tool; input_order_ holds the input's positions, of
+    // which positions() overwrites the moving ones, so the outer region is
+    // handed back bit for bit.
+    LocalFrame frame_;
     std::vector<Vec3> positions_;
     VertexRings rings_;
     std::vector<std::uint32_t> order_;

@@ -103,8 +103,10 @@ DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::v
                                    const std::vector<Triangle>& triangles, const std::vector<double>& s) {
     DeformationQuality q;
     q.volume_defined = is_closed_surface(triangles);
-    q.volume_before = signed_volume(before, triangles);
-    q.volume_after = signed_volume(after, triangles);
+    // About the centre of the mesh before, so that a mesh far from (0,0,0) keeps its digits.
+    const Vec3 centre = bounding_box(before).centre();
+    q.volume_before = signed_volume(before, triangles, centre);
+    q.volume_after = signed_volume(after, triangles, centre);
     q.volume_error_percent = q.volume_before != 0.0
                                  ? 100.0 * std::abs(q.volume_after - q.volume_before) / std::abs(q.volume_before)
                                  : 0.0;

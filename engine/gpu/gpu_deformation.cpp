@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "base/error.h"
 #include "gpu/gpu_error.h"
+#include "mesh/geometry.h"
 
 namespace vfsd::gpu {
 namespace {
@@ -21,6 +23,24 @@ const std::vector<double>& checked_s(const Region& region, std::size_t vertex_co
     return region.s;
 }
 
+// The GPU's textures hold positions relative to the mesh's centre in float; the
+// field's terms grow like |x − c|³, so a mesh much smaller or larger than a unit
+// would underflow or lose its digits there. The CPU works in a local frame of
+// any size (deform/local_frame.h) and runs those.
+const std::vector<Vec3>& checked_size(const std::vector<Vec3>& positions) {
+    constexpr double kSmallest = 1e-6, kLargest = 1e6;
+    const double diagonal = bounding_box(positions).diagonal();
+    if (!positions.empty() && !(diagonal >= kSmallest && diagonal <= kLargest)) {
+        char message[200];
+        std::snprintf(message, sizeof message,
+                      "coordinates too %s for the GPU's float textures: the mesh is %.3g units across, the GPU "
+                      "takes %g to %g; the CPU runs it (--backend cpu)",
+                      diagonal < kSmallest ? "small" : "large", diagonal, kSmallest, kLargest);
+        throw GpuUnavailable(message);
+    }
+    return positions;
+}
+
 }  // namespace
 
 GpuDeformation::GpuDeformation(const std::vector<Vec3>& positions, const VertexRings& rings, Region region,
@@ -28,7 +48,7 @@ GpuDeformation::GpuDeformation(const std::vector<Vec3>& positions, const VertexR
     : region_(std::move(region)),
       motion_(std::move(motion)),
       options_(options),
-      passes_(positions, checked_s(region_, positions.size()), rings) {
+      passes_(checked_size(positions), checked_s(region_, positions.size()), rings) {
     if (options_.steps < 1) throw InputError("steps must be at least 1");
     if (options_.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
     if (!gpu_mirrors(options_)) throw GpuUnavailable(kGpuUnmirroredReason);

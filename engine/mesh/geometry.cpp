@@ -29,6 +29,13 @@ double signed_volume(const std::vector<Vec3>& positions, const std::vector<Trian
     return six_volume / 6.0;
 }
 
+double signed_volume(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles, const Vec3& origin) {
+    double six_volume = 0.0;
+    for (const Triangle& t : triangles)
+        six_volume += glm::dot(positions[t[0]] - origin, glm::cross(positions[t[1]] - origin, positions[t[2]] - origin));
+    return six_volume / 6.0;
+}
+
 namespace {
 
 // Normalised sum of the (unnormalised) wedge normals around v.

@@ -14,6 +14,10 @@ BoundingBox bounding_box(const std::vector<Vec3>& positions);
 // tetrahedra spanned by each triangle and the origin. Exact for closed meshes;
 // for open meshes it depends on the origin (see is_closed in the validation report).
 double signed_volume(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles);
+// The same with the tetrahedra's apex at `origin` instead of (0,0,0): equal for a
+// closed mesh, but without the cancellation of large terms when the mesh lies far
+// from (0,0,0) (a unit cube 1e9 away keeps 7 digits instead of none).
+double signed_volume(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles, const Vec3& origin);
 
 // Area-weighted vertex normals: the normalised sum of the (unnormalised) normals of
 // the triangles in each vertex's fan, gathered over the ordered ring as the normal

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "base/error.h"
+#include "deform/local_frame.h"
 #include "field/vector_field.h"
 #include "region/region_field.h"
 
@@ -95,6 +96,11 @@ PreparedScene prepare_scene(const Scene& scene, MeshFile file) {
     p.scene = scene;
     p.file = std::move(file);
     if (p.file.mesh.vertex_count() == 0) throw InputError(scene.mesh + ": the mesh has no vertices");
+    try {
+        LocalFrame::of(p.file.mesh.positions);  // coordinates the deformation can take, before the region's distances
+    } catch (const InputError& e) {
+        throw InputError(scene.mesh + ": " + e.what());
+    }
     p.rings = build_vertex_rings(p.file.mesh);
     p.region = build_region(scene.region, p.file.mesh.positions, p.rings, p.warnings);
     p.motion = scene_motion(scene);
