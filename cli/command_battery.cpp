@@ -34,7 +34,6 @@ namespace {
 struct Outcome {
     BatteryScene battery;
     DeformationQuality quality;
-    double volume_change_percent = 0.0;  // signed: 100 (after − before) / |before|
     double first_fold_time = -1.0;       // the first tenth of t at which a triangle had folded; −1: none
     double ms_per_step = 0.0;
     std::vector<std::string> warnings;
@@ -66,8 +65,6 @@ Outcome run_scene(BatteryScene b) {
     }
     o.result = d.positions();
     o.quality = measure_quality(before, o.result, triangles, prepared.region.s);
-    const double v0 = o.quality.volume_before;
-    o.volume_change_percent = v0 != 0.0 ? 100.0 * (o.quality.volume_after - v0) / std::abs(v0) : 0.0;
     o.ms_per_step = median(d.step_milliseconds());
     return o;
 }
@@ -90,7 +87,7 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"flipped_triangles", o.quality.flipped_triangles},
             {"first_fold_time", o.first_fold_time},
             {"volume_error_percent", o.quality.volume_error_percent},
-            {"volume_change_percent", o.volume_change_percent},
+            {"volume_change_percent", o.quality.volume_change_percent},
             {"outer_max_displacement", o.quality.outer_max_displacement},
             {"inner_rigid_residual", o.quality.inner_rigid_residual},
             {"ms_per_step", o.ms_per_step},
@@ -213,7 +210,7 @@ int run_battery(const Args& args) {
         const Outcome& o = outcomes.back();
         std::printf("%-48s %7zu v  folds %5zu  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step%s%s\n",
                     o.battery.name.c_str(), o.battery.mesh.mesh.vertex_count(), o.quality.flipped_triangles,
-                    o.volume_change_percent, o.quality.outer_max_displacement, o.quality.inner_rigid_residual,
+                    o.quality.volume_change_percent, o.quality.outer_max_displacement, o.quality.inner_rigid_residual,
                     o.ms_per_step, o.error.empty() ? "" : "  error: ", o.error.c_str());
         std::fflush(stdout);
     }

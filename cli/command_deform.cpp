@@ -119,6 +119,7 @@ nlohmann::json report_json(const PreparedScene& p, const D& d, const Deformation
             {"volume_before", q.volume_before},
             {"volume_after", q.volume_after},
             {"volume_error_percent", q.volume_error_percent},
+            {"volume_change_percent", q.volume_change_percent},
             {"volume_defined", q.volume_defined},  // false for an open or non-manifold surface
             {"outer_max_displacement", q.outer_max_displacement},
             {"inner_rigid_residual", q.inner_rigid_residual},

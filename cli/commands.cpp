@@ -32,8 +32,15 @@ const std::vector<Command>& commands() {
          "as printed: without the CPU's stream gauge fit and volume keeping (it warns);\n"
          "when no context can be made vfsd exits 1 and says why. --threads limits the\n"
          "CPU backend's threads (default: all). When triangles fold, stderr says how\n"
-         "many, after which step and where; the report's \"folds\" lists them.\n",
+         "many, after which step and where; the report's \"folds\" lists them.\n"
+         "'vfsd scene-keys' lists the scene file's keys and their defaults.\n",
          run_deform},
+        {"scene-keys", "list the keys of a scene file, what each takes and its default",
+         "usage: vfsd scene-keys\n"
+         "\n"
+         "Prints every top-level key of a scene file (see 'vfsd deform'), what it takes\n"
+         "and its default; docs/scene-format.md describes regions, selectors and the report.\n",
+         run_scene_keys},
         {"render", "render a scene (optionally deformed to a time) to a PNG, headless",
          "usage: vfsd render SCENE.json --png OUT.png [--time t] [--size WxH] [--backend cpu|gpu]\n"
          "                  [--wireframe] [--steps N] [--force]\n"

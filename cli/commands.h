@@ -50,6 +50,7 @@ const std::vector<Command>& commands();
 int run_info(const Args& args);
 int run_convert(const Args& args);
 int run_deform(const Args& args);
+int run_scene_keys(const Args& args);
 int run_render(const Args& args);
 int run_bench(const Args& args);
 int run_battery(const Args& args);

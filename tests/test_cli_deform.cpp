@@ -7,12 +7,14 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "deform/quality.h"
 #include "io/mesh_file.h"
 #include "mesh/geometry.h"
+#include "scene/scene.h"
 #include "test_io_support.h"
 
 using namespace vfsd;
@@ -63,6 +65,12 @@ TEST_CASE("vfsd deform writes the deformed mesh in the input's layout and a repo
     CHECK(report["backend"] == "cpu");
     CHECK(report["outer_max_displacement"] == 0.0);
     CHECK(report["volume_after"].get<double>() == Approx(signed_volume(output.positions, output.triangles)).epsilon(1e-6));
+    // The signed change beside the error (the cube has no blend region, so its volume changes).
+    const double before = report["volume_before"], after = report["volume_after"];
+    const double change = report["volume_change_percent"];
+    CHECK(change == Approx(100.0 * (after - before) / std::abs(before)));
+    CHECK(std::abs(change) > 1.0);
+    CHECK(report["volume_error_percent"].get<double>() == Approx(std::abs(change)));
     // The top corners (inner) moved, the bottom ones (outer) did not.
     for (std::size_t i = 0; i < output.vertex_count(); ++i) {
         const Vec3 before = input.mesh.positions[input.file_to_mesh[i]];
@@ -135,4 +143,36 @@ TEST_CASE("vfsd deform refuses bad scenes with one line and exit code 1", "[defo
     REQUIRE(deform(dir, "'" + scene + "'" + out) == 0);
     CHECK(deform(dir, "'" + scene + "'" + out) == 1);
     CHECK(deform(dir, "'" + scene + "'" + out + " --force") == 0);
+}
+
+TEST_CASE("vfsd scene-keys lists every key a scene file has, as docs/scene-format.md does", "[deform][cli]") {
+    ScratchDir dir;
+    const std::string command = std::string("'") + VFSD_CLI_PATH + "' scene-keys >'" + dir.file("keys.txt") + "'";
+    REQUIRE(std::system(command.c_str()) == 0);
+    const std::string listing = test::read_bytes(dir.file("keys.txt"));
+    std::ifstream doc_file(std::string(VFSD_SOURCE_DIR) + "/docs/scene-format.md");
+    std::string doc((std::istreambuf_iterator<char>(doc_file)), std::istreambuf_iterator<char>());
+    // The rows of the doc's key table (from its header to the first blank line) start with "| `key` |".
+    const std::size_t table = doc.find("| key | value | default |");
+    REQUIRE(table != std::string::npos);
+    const std::size_t table_end = doc.find("\n\n", table);
+    std::set<std::string> documented;
+    for (std::size_t at = doc.find("\n| `", table); at < table_end; at = doc.find("\n| `", at + 1)) {
+        const std::size_t end = doc.find('`', at + 4);
+        documented.insert(doc.substr(at + 4, end - at - 4));
+    }
+    std::set<std::string> listed;
+    for (const SceneKey& key : scene_keys()) {
+        listed.insert(key.name);
+        CHECK(listing.find(std::string(key.name) + " ") != std::string::npos);
+    }
+    CHECK(listed == documented);
+    // A scene with every optional key set writes only listed keys.
+    Scene scene = load_scene(std::string(VFSD_SOURCE_DIR) + "/assets/scenes/fig14-cylinder-knot.json");
+    scene.twist_plane = 0.5;
+    scene.stream_origin = Vec3(0.0);
+    for (const auto& [key, value] : scene_to_json(scene).items()) {
+        INFO(key);
+        CHECK(listed.count(key) == 1);
+    }
 }

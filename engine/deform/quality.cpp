@@ -107,9 +107,9 @@ DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::v
     const Vec3 centre = bounding_box(before).centre();
     q.volume_before = signed_volume(before, triangles, centre);
     q.volume_after = signed_volume(after, triangles, centre);
-    q.volume_error_percent = q.volume_before != 0.0
-                                 ? 100.0 * std::abs(q.volume_after - q.volume_before) / std::abs(q.volume_before)
-                                 : 0.0;
+    q.volume_change_percent =
+        q.volume_before != 0.0 ? 100.0 * (q.volume_after - q.volume_before) / std::abs(q.volume_before) : 0.0;
+    q.volume_error_percent = std::abs(q.volume_change_percent);
     std::vector<Vec3> inner_before, inner_after;
     for (std::size_t v = 0; v < before.size(); ++v) {
         if (!is_finite(after[v])) ++q.nonfinite_vertices;

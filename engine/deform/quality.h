@@ -19,6 +19,7 @@ struct DeformationQuality {
     double volume_before = 0.0;
     double volume_after = 0.0;
     double volume_error_percent = 0.0;    // 100 |after − before| / |before|
+    double volume_change_percent = 0.0;   // signed: 100 (after − before) / |before|
     double outer_max_displacement = 0.0;  // largest move of an outer vertex (s = 1)
     double inner_rigid_residual = 0.0;    // RMS distance of inner vertices (s = 0) from their best rigid fit, / diagonal
     std::size_t inner_vertices = 0;

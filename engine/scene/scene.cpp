@@ -284,4 +284,26 @@ nlohmann::json scene_to_json(const Scene& scene) {
     return j;
 }
 
+const std::vector<SceneKey>& scene_keys() {
+    static const std::vector<SceneKey> keys = {
+        {"mesh", "a mesh file (relative to the scene file) or builtin:NAME[:RESOLUTION]", "required"},
+        {"region", "which part moves: {\"kind\": \"painted\" | \"geodesic\" | \"implicit\" | \"field\", ...}",
+         "required"},
+        {"curve", "{\"bezier\": [[x,y,z], ...]} (3k+1 points) or {\"handle\": {\"from\": FRAME, \"to\": FRAME}}",
+         "required"},
+        {"inner_motion", "\"rotation\" (eqs. 11-13) or \"translation\" (eqs. 9-10)", "\"rotation\""},
+        {"twist_degrees", "[alpha0, alpha1]: alpha(t) linear, counter-clockwise about the tangent", "[0, 0]"},
+        {"twist_plane", "\"region\", \"curve\" (eq. 14 as printed) or a signed distance along the tangent",
+         "\"region\""},
+        {"stream_origin", "\"curve\" (eq. 10) or a point [x,y,z] that e and f are built about", "\"curve\""},
+        {"stream_gauge", "\"fit\" (a gauge fitted to the blend region every step) or \"paper\"", "\"fit\""},
+        {"smoothing", "\"space\" (the gradient smoothed as a vector) or \"tangent\" (as sec. 5)", "\"space\""},
+        {"keep_volume", "true: the blend region's volume drift undone every step; false: as sec. 5", "true"},
+        {"steps", "RK4 steps from t = 0 to 1", "250"},
+        {"smoothing_steps", "Laplacian smoothing steps on the gradient per integration step", "10"},
+        {"target_time", "where vfsd deform stops, in [0, 1]", "1"},
+    };
+    return keys;
+}
+
 }  // namespace vfsd

@@ -77,6 +77,15 @@ nlohmann::json parse_scene_json(const std::string& text, const std::string& name
 // The scene as JSON, with the mesh path as stored (parse_scene(to_json(s)) == s).
 nlohmann::json scene_to_json(const Scene& scene);
 
+// The keys of a scene file's top level, for listings (`vfsd scene-keys`); the
+// table of docs/scene-format.md has a row for each (a test holds them equal).
+struct SceneKey {
+    const char* name;
+    const char* value;          // what it takes
+    const char* default_value;  // "required" when it has none
+};
+const std::vector<SceneKey>& scene_keys();
+
 // The inner motion the scene's curve (or handle), mode and twist describe.
 InnerMotion scene_motion(const Scene& scene);
 
