@@ -39,7 +39,8 @@ void main() {
     if (scale > 0.0) {
         vec3 m = a / scale;
         float det = m.x * m.z - m.y * m.y;
-        // A ring that spans no plane gives no gradient.
+        // A ring that spans no plane gives no gradient: the same test as the CPU's
+        // ring_gradient (engine/deform/passes.cpp, kFlatRing), det / trace² > 1e-6.
         if (det > 1e-6) {
             vec2 r = rhs / scale;
             g = ((m.z * r.x - m.y * r.y) * t1 + (m.x * r.y - m.y * r.x) * t2) / det;

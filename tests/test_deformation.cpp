@@ -359,3 +359,25 @@ TEST_CASE("region parts list each blend vertex's blend neighbours", "[deform]") 
         CHECK(listed == expected);
     }
 }
+
+TEST_CASE("gradient pass: a ring flatter than 1:1000 gives no gradient, a thin one the exact gradient",
+          "[deformation][gradient]") {
+    // Vertex 0 at the centre of a rhombus (±1, 0, 0), (0, ±e, 0): the normal
+    // equations have det / trace² ≈ e². s = x + y is linear, so eq. (6) is exact
+    // where the ring spans the plane; below e = 1e-3 (the rule the GPU's float
+    // can resolve, shaders/gradient.frag) the ring counts as a line.
+    for (const double e : {1e-1, 1e-2, 5e-3, 1e-4, 1e-5}) {
+        TriangleMesh fan;
+        fan.positions = {{0, 0, 0}, {1, 0, 0}, {0, e, 0}, {-1, 0, 0}, {0, -e, 0}};
+        fan.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}};
+        std::vector<double> s;
+        for (const Vec3& p : fan.positions) s.push_back(0.5 + 0.1 * (p.x + p.y));
+        const VertexRings rings = build_vertex_rings(fan);
+        std::vector<Vec3> normals, gradients;
+        estimate_normals(fan.positions, rings, normals);
+        estimate_gradients(fan.positions, normals, s, rings, {0}, gradients);
+        INFO("e = " << e);
+        if (e >= 2e-3) CHECK(glm::length(gradients[0] - Vec3(0.1, 0.1, 0.0)) < 1e-9);
+        else CHECK(gradients[0] == Vec3(0.0));
+    }
+}

@@ -141,7 +141,13 @@ void tangent_basis(const Vec3& n, Vec3& t1, Vec3& t2) {
 // Eq. (6) at vertex v with normal n: in tangent coordinates p = ((y − x)·t1,
 // (y − x)·t2), the least-squares fit of s(y) − s(x) ≈ g·p over the 1-ring solves
 // the 2×2 normal equations Σ p pᵀ g = Σ p (s(y) − s(x)); g·n = 0 by construction.
-// A ring that spans no plane (or a vertex without a normal) gives no gradient.
+// A ring that spans no plane (or a vertex without a normal) gives no gradient:
+// the normal equations' determinant, over their trace squared, below
+// kFlatRing (the ring's points within about 1e-3 of a line, relative to its size).
+// The GPU's gradient pass tests the same quotient (shaders/gradient.frag): a
+// threshold float resolves, so that both passes call the same rings singular.
+constexpr double kFlatRing = 1e-6;
+
 Vec3 ring_gradient(const std::vector<Vec3>& positions, const Vec3& n, const std::vector<double>& s,
                    const VertexRings& rings, std::uint32_t v) {
     if (n == Vec3(0.0)) return Vec3(0.0);
@@ -157,7 +163,7 @@ Vec3 ring_gradient(const std::vector<Vec3>& positions, const Vec3& n, const std:
         r1 += p1 * ds, r2 += p2 * ds;
     }
     const double scale = a11 + a22, det = a11 * a22 - a12 * a12;
-    if (!(det > 1e-12 * scale * scale)) return Vec3(0.0);
+    if (!(det > kFlatRing * scale * scale)) return Vec3(0.0);
     return ((a22 * r1 - a12 * r2) * t1 + (a11 * r2 - a12 * r1) * t2) / det;
 }
 
