@@ -139,3 +139,31 @@ TEST_CASE("recomputing with deformed positions follows the new shape", "[region]
     const std::uint32_t probe = 10 * 21 + 8;  // (0.4, 0.5) before stretching
     CHECK(after.s[probe] > before.s[probe] + 0.1);
 }
+
+TEST_CASE("painted regions that touch: a warning says where, a band opens the transition", "[region][field]") {
+    // A 40 x 40 sheet on [0, 1]²: inner x < 0.5, outer x ≥ 0.5, so they touch.
+    const TriangleMesh m = grid_mesh(40, 1.0);
+    const VertexRings rings = build_vertex_rings(m);
+    const auto inner = mask_where(m, [](const Vec3& p) { return p.x < 0.5 - 1e-9; });
+    const auto outer = mask_where(m, [](const Vec3& p) { return p.x >= 0.5 - 1e-9; });
+    const RegionField touching = painted_region_field(m.positions, rings, inner, outer);
+    CHECK(blend_ring_width(touching.s, rings) < kThinBlendRings);
+    REQUIRE(touching.warnings.size() == 1);
+    CHECK_THAT(touching.warnings[0], Catch::Contains("ring wide near (0.5,") && Catch::Contains("region.band"));
+
+    const double band = 0.2;  // 8 edges of 0.025
+    const RegionField banded = painted_region_field(m.positions, rings, inner, outer, {}, band);
+    CHECK(banded.warnings.empty());
+    CHECK(blend_ring_width(banded.s, rings) >= kThinBlendRings);
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+        const double x = m.positions[v].x;
+        INFO("x = " << x);
+        if (inner[v]) CHECK(banded.s[v] == 0.0);
+        else if (x >= 0.5 + band + 0.03) CHECK(banded.s[v] == 1.0);  // beyond the band (geodesic ≈ Euclidean here)
+        else if (x <= 0.5 + band - 0.03) CHECK((banded.s[v] > 0.0 && banded.s[v] < 1.0));
+    }
+    // s rises across the band along a row.
+    const std::size_t row = 20 * 41;
+    for (std::size_t i = 20; i < 28; ++i) CHECK(banded.s[row + i + 1] > banded.s[row + i]);
+    CHECK_THROWS_WITH(painted_region_field(m.positions, rings, inner, outer, {}, -1.0), Catch::Contains("band"));
+}

@@ -1,6 +1,8 @@
 #include "region/region_field.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "base/error.h"
@@ -68,6 +70,30 @@ void resolve_components(const VertexRings& rings, const std::vector<std::uint8_t
                                  "they are not deformed (s = 1)");
 }
 
+// A blend region thinner than kThinBlendRings tears when the inner region moves:
+// says how thin, where (the inner vertex nearest an outer one) and which band
+// would give it kThinBlendRings rings of the mesh's mean edge near there.
+void warn_if_thin(const std::vector<Vec3>& positions, const VertexRings& rings, const std::vector<double>& gi,
+                  double band, RegionField& field) {
+    const int width = blend_ring_width(field.s, rings);
+    if (width < 0 || width >= kThinBlendRings) return;
+    double edge = 0.0, nearest = kInf;
+    std::size_t edges = 0, where = 0;
+    for (std::uint32_t v = 0; v < positions.size(); ++v) {
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
+            edge += glm::length(positions[rings.neighbours[k]] - positions[v]), ++edges;
+        if (field.s[v] >= 1.0 && gi[v] < nearest) nearest = gi[v], where = v;
+    }
+    edge = edges > 0 ? edge / double(edges) : 0.0;
+    char message[320];
+    std::snprintf(message, sizeof message,
+                  "the blend region is only %d ring%s wide near (%g, %g, %g): the inner and outer regions nearly "
+                  "touch there and the shape will tear; set a transition band (region.band) of at least %.3g",
+                  width, width == 1 ? "" : "s", positions[where].x, positions[where].y, positions[where].z,
+                  std::max(band, 0.0) + kThinBlendRings * edge);
+    field.warnings.push_back(message);
+}
+
 }  // namespace
 
 std::vector<double> level_field_from_distance(const std::vector<double>& g, double g_min, double g_max) {
@@ -94,10 +120,27 @@ std::vector<double> geodesic_level_field(const std::vector<Vec3>& positions, con
     return level_field_from_distance(geodesic_distance(positions, rings, {seed}, options), g_min, g_max);
 }
 
+int blend_ring_width(const std::vector<double>& s, const VertexRings& rings) {
+    const auto n = static_cast<std::uint32_t>(s.size());
+    std::vector<int> ring(n, -1);
+    std::vector<std::uint32_t> queue;
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (s[v] <= 0.0) ring[v] = 0, queue.push_back(v);
+    for (std::size_t i = 0; i < queue.size(); ++i) {
+        const std::uint32_t v = queue[i];
+        if (s[v] >= 1.0) return ring[v];  // breadth-first: the first outer vertex reached is the nearest
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
+            if (ring[rings.neighbours[k]] < 0) ring[rings.neighbours[k]] = ring[v] + 1, queue.push_back(rings.neighbours[k]);
+    }
+    return -1;
+}
+
 RegionField painted_region_field(const std::vector<Vec3>& positions, const VertexRings& rings,
-                                 const std::vector<std::uint8_t>& inner, const std::vector<std::uint8_t>& outer,
-                                 const GeodesicOptions& options) {
-    check_masks(positions.size(), inner, outer);
+                                 const std::vector<std::uint8_t>& inner, const std::vector<std::uint8_t>& painted_outer,
+                                 const GeodesicOptions& options, double band) {
+    check_masks(positions.size(), inner, painted_outer);
+    if (!(band >= 0.0) || !std::isfinite(band))
+        throw InputError("painted region: band must be a finite distance >= 0 (got " + std::to_string(band) + ")");
     RegionField field;
     field.s.assign(positions.size(), 1.0);
     bool any_inner = false;
@@ -109,6 +152,9 @@ RegionField painted_region_field(const std::vector<Vec3>& positions, const Verte
     GeodesicOptions full = options;
     full.max_distance = kInf;  // eq. (16) needs both distances everywhere
     const std::vector<double> gi = geodesic_distance_to_region(positions, rings, inner, full);
+    std::vector<std::uint8_t> outer = painted_outer;  // less the transition band
+    for (std::size_t v = 0; v < outer.size(); ++v)
+        if (gi[v] < band) outer[v] = 0;
     const std::vector<double> go = geodesic_distance_to_region(positions, rings, outer, full);
     // Eq. (16): s = g_o / (g_i + g_o) * 0 + g_i / (g_i + g_o) * 1.
     for (std::size_t v = 0; v < positions.size(); ++v) {
@@ -117,6 +163,7 @@ RegionField painted_region_field(const std::vector<Vec3>& positions, const Verte
         else if (gi[v] < kInf && go[v] < kInf) field.s[v] = gi[v] + go[v] > 0.0 ? gi[v] / (gi[v] + go[v]) : 0.5;
     }
     resolve_components(rings, inner, outer, field);
+    warn_if_thin(positions, rings, gi, band, field);
     return field;
 }
 

@@ -45,8 +45,19 @@ std::vector<double> geodesic_level_field(const std::vector<Vec3>& positions, con
 // An empty inner region gives s = 1 everywhere and a warning (nothing moves).
 // Throws InputError when a mask's size differs from the vertex count or when a vertex
 // is marked both inner and outer.
+//
+// `band` > 0 opens a transition band where the regions meet: outer vertices nearer
+// to the inner region than `band` (geodesic distance) join the blend region, so
+// that painted regions that touch still blend over that width instead of tearing.
+// A blend region thinner than kThinBlendRings somewhere gets a warning that says
+// where and which band would widen it.
+constexpr int kThinBlendRings = 3;
 RegionField painted_region_field(const std::vector<Vec3>& positions, const VertexRings& rings,
                                  const std::vector<std::uint8_t>& inner, const std::vector<std::uint8_t>& outer,
-                                 const GeodesicOptions& options = {});
+                                 const GeodesicOptions& options = {}, double band = 0.0);
+
+// The blend region's narrowest width in rings: the fewest edges on a path from a
+// vertex with s = 0 to one with s = 1 (−1 when no such path exists).
+int blend_ring_width(const std::vector<double>& s, const VertexRings& rings);
 
 }  // namespace vfsd

@@ -10,6 +10,7 @@
 #include "mesh/geometry.h"
 #include "mesh/vertex_rings.h"
 #include "region/geodesic.h"
+#include "region/region_field.h"
 #include "scene/prepared_scene.h"
 
 namespace vfsd {
@@ -187,21 +188,6 @@ std::string short_name(const std::string& source) {
 }
 
 }  // namespace
-
-int blend_ring_width(const std::vector<double>& s, const VertexRings& rings) {
-    const auto n = static_cast<std::uint32_t>(s.size());
-    std::vector<int> ring(n, -1);
-    std::vector<std::uint32_t> queue;
-    for (std::uint32_t v = 0; v < n; ++v)
-        if (s[v] <= 0.0) ring[v] = 0, queue.push_back(v);
-    for (std::size_t i = 0; i < queue.size(); ++i) {
-        const std::uint32_t v = queue[i];
-        if (s[v] >= 1.0) return ring[v];  // breadth-first: the first outer vertex reached is the nearest
-        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
-            if (ring[rings.neighbours[k]] < 0) ring[rings.neighbours[k]] = ring[v] + 1, queue.push_back(rings.neighbours[k]);
-    }
-    return -1;
-}
 
 std::string battery_mesh_unusable(const TriangleMesh& mesh) {
     const std::size_t n = mesh.vertex_count();

@@ -11,6 +11,7 @@
 
 #include "io/mesh_file.h"
 #include "mesh/vertex_rings.h"
+#include "region/region_field.h"
 #include "scene/scene.h"
 #include "scene/scene_transform.h"
 
@@ -30,10 +31,9 @@ struct BatteryScene {
     int blend_rings = 0;  // the fewest edges from an inner to an outer vertex (blend_ring_width)
 };
 
-// The blend region's narrowest width in rings: the fewest edges on a path from
-// a vertex with s = 0 to one with s = 1 (−1 when no such path exists).
+// The blend region's narrowest width in rings (blend_ring_width, region/region_field.h)
+// that every battery scene has at least.
 constexpr int kBatteryBlendRings = 6;
-int blend_ring_width(const std::vector<double>& s, const VertexRings& rings);
 
 // The meshes a battery draws from: each built-in at a coarse and a fine
 // resolution, then every mesh file in `mesh_files` (e.g. CGAL's, assets/cgal).

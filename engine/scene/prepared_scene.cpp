@@ -61,7 +61,8 @@ Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, 
     switch (spec.kind) {
         case RegionSpec::Kind::painted: {
             RegionField field = painted_region_field(positions, rings, select_vertices(positions, spec.inner),
-                                                     select_vertices(positions, spec.outer), spec.geodesic);
+                                                     select_vertices(positions, spec.outer), spec.geodesic,
+                                                     spec.band);
             warnings.insert(warnings.end(), field.warnings.begin(), field.warnings.end());
             region.s = std::move(field.s);
             break;

@@ -58,6 +58,10 @@ RegionSpec parse_region(const Reader& in, const json& j) {
         r.kind = RegionSpec::Kind::painted;
         r.inner = parse_selectors(in.member(j, "inner", "region"), "region.inner");
         r.outer = parse_selectors(in.member(j, "outer", "region"), "region.outer");
+        if (j.contains("band")) {
+            r.band = in.number(j["band"], "region.band");
+            if (!(r.band >= 0.0)) in.fail("region.band", "expected a distance >= 0");
+        }
     } else if (kind == "geodesic") {
         r.kind = RegionSpec::Kind::geodesic;
         r.seed = in.vec3(in.member(j, "seed", "region"), "region.seed");
@@ -243,7 +247,8 @@ nlohmann::json selectors_json(const std::vector<Selector>& selectors) {
 nlohmann::json region_json(const RegionSpec& r) {
     switch (r.kind) {
         case RegionSpec::Kind::painted:
-            return {{"kind", "painted"}, {"inner", selectors_json(r.inner)}, {"outer", selectors_json(r.outer)}};
+            return {{"kind", "painted"}, {"inner", selectors_json(r.inner)}, {"outer", selectors_json(r.outer)},
+                    {"band", r.band}};
         case RegionSpec::Kind::geodesic:
             return {{"kind", "geodesic"}, {"seed", to_json(r.seed)}, {"g_min", r.g_min}, {"g_max", r.g_max}};
         case RegionSpec::Kind::implicit:

@@ -36,6 +36,7 @@ struct RegionSpec {
     enum class Kind { painted, geodesic, implicit, field };
     Kind kind = Kind::painted;
     std::vector<Selector> inner, outer;  // painted (eq. 16)
+    double band = 0.0;                   // painted: the transition band where inner and outer meet
     Vec3 seed{0.0};                      // geodesic (eq. 15): nearest vertex to this point
     double g_min = 0.0, g_max = 0.0;
     GeodesicOptions geodesic;            // painted and geodesic

@@ -64,6 +64,7 @@ Scene place_scene(const Scene& scene, const Placement& p) {
     place_selectors(r.inner, p);
     place_selectors(r.outer, p);
     r.seed = p.point(r.seed);
+    r.band *= p.scale;
     r.g_min *= p.scale;
     r.g_max *= p.scale;
     r.geodesic.max_distance *= p.scale;
