@@ -1,5 +1,5 @@
 // vfsd render SCENE.json --png OUT.png [--time t] [--size WxH] [--backend cpu|gpu]
-//             [--wireframe] [--steps N] [--force]
+//             [--wireframe] [--steps N] [--force] [--view SIDE] [--up y|z] [--zoom Z] [--target X,Y,Z]
 //
 // Renders the scene headless (OSMesa, or EGL in a build with VFSD_HEADLESS_GL=egl)
 // as the apps show it: s from blue (0) to red (1), the region borders, the curve,
@@ -7,6 +7,7 @@
 // --time integrates to t first, on the CPU or on the GPU (whose vertex texture is
 // drawn without read-back) when the GPU takes every step the scene asks for.
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -32,10 +33,20 @@ void parse_size(const std::string& text, int& width, int& height) {
         throw UsageError("--size expects WxH with both between 16 and 8192, e.g. 800x600");
 }
 
+// "X,Y,Z": three finite numbers.
+Vec3 parse_point(const std::string& text) {
+    double x = 0.0, y = 0.0, z = 0.0;
+    char rest = 0;
+    if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &rest) != 3 || !std::isfinite(x) ||
+        !std::isfinite(y) || !std::isfinite(z))
+        throw UsageError("--target expects X,Y,Z, e.g. 0.5,0,1.2");
+    return Vec3(x, y, z);
+}
+
 }  // namespace
 
 int run_render(const Args& args) {
-    args.expect({"png", "time", "size", "backend", "wireframe", "steps", "force"}, 1, 1);
+    args.expect({"png", "time", "size", "backend", "wireframe", "steps", "force", "view", "up", "zoom", "target"}, 1, 1);
     const std::string scene_path = args.positional(0, "scene file");
     if (!args.has("png") || args.get("png").empty()) throw UsageError("--png OUT.png is required");
     const std::string out = args.get("png");
@@ -47,6 +58,8 @@ int run_render(const Args& args) {
     int width = 800, height = 600;
     if (args.has("size")) parse_size(args.get("size"), width, height);
     const double time = args.get_number("time", 0.0);
+    const double zoom = args.get_number("zoom", 1.0);
+    if (!(zoom > 0.0 && zoom <= 1e6)) throw UsageError("--zoom expects a number in (0, 1e6]: 2 shows half as much");
     if (!(time >= 0.0 && time <= 1.0)) throw UsageError("--time expects a number in [0, 1]");
     std::error_code ec;
     if (std::filesystem::exists(out, ec) && !args.has("force"))
@@ -63,8 +76,16 @@ int run_render(const Args& args) {
     const auto& start = prepared.file.mesh.positions;
 
     // The camera frames the whole deformation, so frames of one scene at any time line up.
-    const gpu::Camera camera =
-        gpu::Camera::framing(gpu::deformation_frame_points(start, prepared.region.s, prepared.motion));
+    gpu::Camera camera = gpu::Camera::framing(gpu::deformation_frame_points(start, prepared.region.s, prepared.motion));
+    const std::string up = args.get("up", "z");
+    if (up != "y" && up != "z") throw UsageError("--up must be 'y' or 'z'");
+    try {
+        camera.look_from(args.get("view", "iso"), up[0]);
+    } catch (const vfsd::InputError& e) {
+        throw UsageError(std::string("--view: ") + e.what());
+    }
+    if (args.has("target")) camera.centre = parse_point(args.get("target"));
+    camera.radius /= zoom;
     const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
     gpu::RenderOptions options;
     options.current_time = time;

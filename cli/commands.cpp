@@ -44,13 +44,18 @@ const std::vector<Command>& commands() {
         {"render", "render a scene (optionally deformed to a time) to a PNG, headless",
          "usage: vfsd render SCENE.json --png OUT.png [--time t] [--size WxH] [--backend cpu|gpu]\n"
          "                  [--wireframe] [--steps N] [--force]\n"
+         "                  [--view front|back|right|left|top|bottom|iso] [--up z|y] [--zoom Z] [--target X,Y,Z]\n"
          "\n"
          "Draws the mesh with s from blue (0) to red (1), the region borders in yellow,\n"
          "the curve, a white sphere at c(t) and a dark one at the scene's target time.\n"
          "--time integrates to t first (default 0, the undeformed scene) on the CPU,\n"
          "or on the GPU when it runs every step the scene asks for (sec. 5 as printed:\n"
          "\"stream_gauge\": \"paper\", \"keep_volume\": false) or --backend gpu says so.\n"
-         "--size defaults to 800x600. Needs OSMesa.\n",
+         "--size defaults to 800x600. The camera frames the whole deformation from --view\n"
+         "(default iso, a 3/4 view) with --up the axis that is up on the screen (default z;\n"
+         "y for meshes modelled y-up); --zoom 4 shows a quarter as much, about --target\n"
+         "(default the framed centre), so that any part, a fold say, can be looked at.\n"
+         "Needs OSMesa.\n",
          run_render},
         {"bench", "time the deformation per step on the paper's models and larger meshes",
          "usage: vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--no-gpu]\n"

@@ -1,11 +1,14 @@
 // The shared renderer draws a scene from the vertex texture with s colour-coded:
 // blue where s = 0, red where s = 1; and the CLI renders and deforms headless.
+#include <sys/wait.h>
+
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
+#include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 
 #include "deform/quality.h"
@@ -116,4 +119,45 @@ TEST_CASE("vfsd render and vfsd deform --backend gpu run headless", "[gpu][rende
     CHECK(json["steps"] == 20);
     CHECK(json["stream_gauge"] == "paper");  // what the GPU ran, said
     std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("render views: each side looks at the centre with the chosen axis up on the screen", "[gpu][render]") {
+    // No GL needed: the camera's matrices alone.
+    const auto clip = [](const gpu::Camera& camera, const Vec3& p) {
+        float view[16], projection[16];
+        camera.matrices(1.0, view, projection);
+        const glm::vec4 c = glm::make_mat4(projection) * glm::make_mat4(view) * glm::vec4(glm::vec3(p), 1.0f);
+        return glm::dvec3(c) / double(c.w);
+    };
+    for (const char up_axis : {'z', 'y'}) {
+        const Vec3 up = up_axis == 'z' ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
+        for (const char* side : {"front", "back", "right", "left", "top", "bottom", "iso"}) {
+            gpu::Camera camera;
+            camera.centre = Vec3(3.0, -2.0, 5.0);
+            camera.radius = 2.0;
+            camera.look_from(side, up_axis);
+            INFO(side << ", " << up_axis << " up");
+            CHECK(glm::length(glm::dvec2(clip(camera, camera.centre))) < 1e-5);  // the centre in the middle of the image
+            const bool along_up = std::abs(glm::dot(camera.direction, up)) > 0.99;
+            if (!along_up) CHECK(clip(camera, camera.centre + up)[1] > 0.1);  // up is up on the screen
+        }
+        gpu::Camera front;
+        front.look_from("front", up_axis);
+        CHECK(glm::length(front.direction - (up_axis == 'z' ? Vec3(0, -1, 0) : Vec3(0, 0, 1))) < 1e-12);
+    }
+    gpu::Camera camera;
+    CHECK_THROWS_WITH(camera.look_from("side", 'z'), Catch::Contains("unknown view 'side'"));
+    CHECK_THROWS_WITH(camera.look_from("front", 'x'), Catch::Contains("up axis"));
+}
+
+TEST_CASE("vfsd render refuses an unknown view, a bad zoom or target with exit code 2", "[gpu][render][cli]") {
+    const std::string scene = std::string(VFSD_SOURCE_DIR) + "/assets/scenes/fig04-box-bend.json";
+    for (const char* bad : {"--view side", "--up x", "--zoom 0", "--zoom -1", "--target 1,2", "--target 1,2,nan"}) {
+        const std::string command = std::string("'") + VFSD_CLI_PATH + "' render '" + scene +
+                                    "' --png /nonexistent/never.png " + bad + " 2>/dev/null";
+        const int status = std::system(command.c_str());
+        INFO(bad);
+        CHECK(WIFEXITED(status));
+        CHECK(WEXITSTATUS(status) == 2);
+    }
 }

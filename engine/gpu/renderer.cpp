@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "base/error.h"
 #include "gpu/capabilities.h"
 #include "gpu/texture_layout.h"
 #include "io/mesh_file.h"
@@ -84,12 +85,33 @@ std::vector<Vec3> deformation_frame_points(const std::vector<Vec3>& positions, c
     return points;
 }
 
+void Camera::look_from(const std::string& view, char up_axis) {
+    // Directions with z up, as the editors' standard views (editor/camera.h).
+    struct Side {
+        const char* name;
+        Vec3 direction, up;
+    };
+    const Side sides[] = {{"front", {0, -1, 0}, {0, 0, 1}},  {"back", {0, 1, 0}, {0, 0, 1}},
+                          {"right", {1, 0, 0}, {0, 0, 1}},   {"left", {-1, 0, 0}, {0, 0, 1}},
+                          {"top", {0, 0, 1}, {0, 1, 0}},     {"bottom", {0, 0, -1}, {0, -1, 0}},
+                          {"iso", glm::normalize(Vec3(1.0, -1.6, 0.9)), {0, 0, 1}}};
+    if (up_axis != 'z' && up_axis != 'y') throw InputError("up axis must be 'y' or 'z'");
+    // y up: the z-up frame turned so that its z becomes y: (x, y, z) -> (x, z, −y).
+    const auto world = [&](const Vec3& v) { return up_axis == 'z' ? v : Vec3(v.x, v.z, -v.y); };
+    for (const Side& side : sides) {
+        if (view != side.name) continue;
+        direction = world(side.direction);
+        up = world(side.up);
+        return;
+    }
+    throw InputError("unknown view '" + view + "' (front, back, right, left, top, bottom or iso)");
+}
+
 void Camera::matrices(double aspect, float view[16], float projection[16]) const {
     const double half_fov = glm::radians(0.5 * fov_degrees);
     // Far enough that the bounding sphere fits the narrower side of the image.
     const double distance = 1.05 * radius / std::sin(half_fov * std::min(1.0, aspect));
-    const Vec3 direction = glm::normalize(Vec3(1.0, -1.6, 0.9));  // 3/4 view from front right, above
-    const glm::mat4 v = glm::lookAt(glm::vec3(centre + distance * direction), glm::vec3(centre), glm::vec3(0, 0, 1));
+    const glm::mat4 v = glm::lookAt(glm::vec3(centre + distance * direction), glm::vec3(centre), glm::vec3(up));
     const glm::mat4 p = glm::perspective(float(2.0 * half_fov), float(aspect), float(0.05 * distance),
                                          float(distance + 2.0 * radius));
     std::copy_n(glm::value_ptr(v), 16, view);

@@ -6,7 +6,10 @@
 // from a vertex texture (xyz + s) by gl_VertexID, so display needs no read-back.
 
 #include <memory>
+#include <string>
 #include <vector>
+
+#include <glm/geometric.hpp>
 
 #include "curve/inner_motion.h"
 #include "gpu/gl_objects.h"
@@ -19,8 +22,16 @@ struct Camera {
     Vec3 centre{0.0};
     double radius = 1.0;
     double fov_degrees = 30.0;
+    // From the centre towards the eye (unit), and the world direction that is up
+    // on the screen: a 3/4 view from front right, above, with z up.
+    Vec3 direction = glm::normalize(Vec3(1.0, -1.6, 0.9));
+    Vec3 up{0.0, 0.0, 1.0};
     // Frames `points` (e.g. the mesh and the curve) from above front right.
     static Camera framing(const std::vector<Vec3>& points);
+    // Looks from a named side: front, back, right, left, top, bottom or iso (the
+    // default 3/4 view), with `up_axis` 'z' (z up, front = from −y, as the editors)
+    // or 'y' (y up, front = from +z). Throws InputError for another name.
+    void look_from(const std::string& view, char up_axis);
     // Column-major view and projection matrices for an image of the given aspect.
     void matrices(double aspect, float view[16], float projection[16]) const;
 };
