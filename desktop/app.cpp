@@ -82,6 +82,7 @@ App::App(const AppOptions& options) : options_(options), autosave_(editor::defau
         }
     }
     session_ = std::make_unique<editor::EditorSession>(gpu, reason);
+    settings_.force_cpu = options.backend == "cpu";
     log(std::string("GL: ") + context.renderer() + (gpu ? " (GPU path)" : " (CPU path: " + reason + ")"));
 
     // The starting document: the mesh or scene asked for, else the default scene.
@@ -116,6 +117,17 @@ editor::Viewport App::viewport() const {
     int w = 1, h = 1;
     glfwGetFramebufferSize(window_, &w, &h);
     return {std::max(w, 1), std::max(h, 1)};
+}
+
+editor::CommandContext App::context() { return {*session_, tools_, camera_, settings_, viewport(), *this}; }
+
+void App::command(const std::string& name, const nlohmann::json& args) {
+    try {
+        editor::CommandContext c = context();
+        editor::run_command(name, args, c);
+    } catch (const std::exception& e) {
+        status_ = e.what();
+    }
 }
 
 void App::log(const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); }
@@ -304,7 +316,7 @@ void App::draw_scene() {
     gpu::RenderOptions render;
     render.current_time = session_->time();
     render.target_time = session_->target_time();
-    render.wireframe = wireframe_;
+    render.wireframe = settings_.wireframe;
     if (on_gpu) render.vertex_origin = on_gpu->vertex_origin();
     render.highlight = &session_->folded_triangles();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -424,7 +436,7 @@ int App::run() {
         handle_input();
         handle_shortcuts();
         if (script_ && !script_->done()) {
-            script_->run_frame(*session_, tools_, camera_, viewport(), *this);
+            script_->run_frame(context());
             if (script_->done()) {
                 log(script_->failed() ? "script failed: " + script_->error() : "script: done");
                 if (options_.exit_after_script && !pending_screenshot_) break;

@@ -9,8 +9,11 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "editor/autosave.h"
 #include "editor/camera.h"
+#include "editor/commands.h"
 #include "editor/script.h"
 #include "editor/session.h"
 #include "editor/tools.h"
@@ -30,14 +33,14 @@ struct AppOptions {
     int width = 1280, height = 800;
 };
 
-class App final : public editor::ScriptHost {
+class App final : public editor::EditorHost {
 public:
     explicit App(const AppOptions& options);
     ~App() override;
     // The main loop; returns the exit code (1 when the script failed).
     int run();
 
-    // ScriptHost
+    // EditorHost
     void screenshot(const std::string& path, bool ui) override;
     void loaded() override;
     void log(const std::string& line) override;
@@ -63,6 +66,9 @@ private:
     void offer_restore();
     void save_screenshot(const std::string& path) const;
     editor::Viewport viewport() const;
+    editor::CommandContext context();
+    // Runs a command of the editor's table; a failure shows in the status line.
+    void command(const std::string& name, const nlohmann::json& args = nlohmann::json::object());
     void remember(const std::string& path);
 
     AppOptions options_;
@@ -70,6 +76,7 @@ private:
     std::unique_ptr<editor::EditorSession> session_;
     editor::ToolController tools_;
     editor::Camera camera_;
+    editor::EditorSettings settings_;
     std::unique_ptr<gpu::Renderer> renderer_;
     std::optional<gpu::Texture> cpu_vertices_;
     std::uint64_t drawn_mesh_ = 0, drawn_curve_ = 0, drawn_revision_ = 0;
@@ -81,7 +88,7 @@ private:
     double last_x_ = 0.0, last_y_ = 0.0;
 
     // Panels' state.
-    bool show_help_ = false, show_ui_ = true, wireframe_ = false;
+    bool show_help_ = false, show_ui_ = true;
     char path_field_[1024] = "";
     char output_field_[1024] = "vfsd-out";
     std::deque<std::string> recent_;

@@ -172,7 +172,7 @@ TEST_CASE("Picking: painting moves no vertex, so the positions' revision stays",
 namespace {
 
 // Records what an orbit asks of the editor.
-class OrbitHost final : public ScriptHost {
+class OrbitHost final : public EditorHost {
 public:
     std::optional<glm::dvec2> pointer;
     int frames_to_log = 0;
@@ -196,7 +196,8 @@ TEST_CASE("Scripts: an orbit turns the camera over its frames, a tool action pic
                                      "{\"action\": \"orbit\", \"degrees\": [90, -10], \"frames\": 4, \"pointer\": [300, 200]}\n",
                                      "orbit"));
     int frames = 0;
-    while (script.run_frame(session, tools, camera, Viewport{640, 480}, host)) ++frames;
+    EditorSettings settings;
+    while (script.run_frame({session, tools, camera, settings, Viewport{640, 480}, host})) ++frames;
     REQUIRE_FALSE(script.failed());
     CHECK(frames == 4);  // four turning frames; the action ends on the fifth
     CHECK(tools.tool == Tool::paint_inner);

@@ -6,7 +6,8 @@
 // the CPU path runs and the stats say why.
 //
 // The page (web/vfsd-page.js) talks to this file through four C functions:
-// vfsd_command (JSON in, JSON out: every control and the automation API),
+// vfsd_command (JSON in, JSON out: the editor's command table, editor/commands.h,
+// and the page's queries: state, open, exports, projections),
 // vfsd_pointer, vfsd_wheel and vfsd_array (positions or s for the tests). Each
 // frame ends by handing the page the overlay (control points, loops, the brush)
 // to draw on the 2D canvas above the WebGL one.
@@ -106,12 +107,6 @@ private:
     EMSCRIPTEN_WEBGL_CONTEXT_HANDLE handle_;
 };
 
-std::optional<editor::Tool> core_tool(const std::string& name) {
-    for (const auto t : editor::kAllTools)
-        if (name == editor::tool_name(t)) return t;
-    return std::nullopt;
-}
-
 json points_json(const std::vector<Vec3>& points) {
     json out = json::array();
     for (const Vec3& p : points) out.push_back({p.x, p.y, p.z});
@@ -146,7 +141,7 @@ std::string read_file(const std::string& path) {
     return text.str();
 }
 
-class App final : public editor::ScriptHost {
+class App final : public editor::EditorHost {
 public:
     explicit App(const json& options);
 
@@ -158,7 +153,7 @@ public:
     std::size_t array(int which);
     const std::vector<double>& array_data() const { return array_; }
 
-    // ScriptHost
+    // EditorHost
     void screenshot(const std::string&, bool) override { log("script: screenshots are the page's (canvas)"); }
     void loaded() override;
     void log(const std::string& line) override { std::printf("%s\n", line.c_str()); }
@@ -173,8 +168,7 @@ private:
     void init_gl();
     void open(const std::string& path);
     void load_scene(json scene);
-    void set(const json& c);
-    void action(const std::string& name);
+    editor::CommandContext context();
     json state() const;
     json autosave_state() const;
     json overlay() const;
@@ -190,12 +184,11 @@ private:
     std::unique_ptr<editor::EditorSession> session_;
     editor::ToolController tools_;
     editor::Camera camera_;
+    editor::EditorSettings settings_;
     editor::SessionView view_;
     std::unique_ptr<editor::ScriptRunner> script_;
     editor::Autosave autosave_{kAutosave, kAutosaveSeconds};
-    bool force_cpu_ = false;
     double ms_per_step_ = 0.0;  // wall time per step of the last update(), read-back included
-    int region_gesture_ = 0, curve_gesture_ = 0;  // slider drags open one undo step
 
     enum class Drag { none, tool, orbit, pan } drag_ = Drag::none;
     double mouse_x_ = -1.0, mouse_y_ = -1.0;
@@ -333,73 +326,7 @@ void App::wheel(double delta, double x, double y) {
     camera_.zoom(std::pow(0.85, -delta / 100.0), x, y, viewport());
 }
 
-void App::set(const json& c) {
-    if (c.contains("tool")) {
-        const std::string name = c["tool"];
-        const auto t = core_tool(name);
-        if (!t) throw InputError("tool: unknown '" + name + "'");
-        tools_.tool = *t;
-    }
-    if (c.contains("radius")) tools_.brush.radius = c["radius"].get<double>();
-    if (c.contains("s_target")) tools_.brush.s_target = c["s_target"].get<double>();
-    if (c.contains("strength")) tools_.brush.strength = c["strength"].get<double>();
-    if (c.contains("axis")) tools_.axis = c["axis"].get<int>();
-    if (c.contains("wireframe")) view_.wireframe = c["wireframe"].get<bool>();
-    if (c.contains("force_cpu")) session_->set_force_cpu(force_cpu_ = c["force_cpu"].get<bool>());
-    if (c.contains("target_time")) session_->set_target_time(c["target_time"].get<double>());
-    if (c.contains("g_min") || c.contains("g_max")) {
-        const double d = session_->diagonal();
-        const double lo = c.value("g_min", tools_.g_min), hi = c.value("g_max", tools_.g_max);
-        tools_.g_min = std::min(lo, hi - 1e-4 * d);
-        tools_.g_max = std::max(hi, lo + 1e-4 * d);
-        const bool gesture = c.value("gesture", false) && !region_gesture_++;
-        if (gesture) session_->begin_region_gesture();
-        session_->set_geodesic_range(tools_.g_min, tools_.g_max);
-    }
-    if (c.contains("inner_motion") || c.contains("alpha")) {
-        editor::CurveSettings curve = session_->curve();
-        if (c.contains("inner_motion"))
-            curve.inner_motion = c["inner_motion"] == "translation" ? InnerMotionMode::Translation : InnerMotionMode::Rotation;
-        if (c.contains("alpha")) {
-            curve.twist_degrees[0] = c["alpha"][0].get<double>();
-            curve.twist_degrees[1] = c["alpha"][1].get<double>();
-        }
-        const bool gesture = c.value("gesture", false) && !curve_gesture_++;
-        if (gesture) session_->begin_curve_gesture();
-        session_->set_curve(curve);
-    }
-}
-
-void App::action(const std::string& name) {
-    editor::EditorSession& s = *session_;
-    if (name == "play") s.play();
-    else if (name == "pause") s.pause();
-    else if (name == "play-pause") s.moving() ? s.pause() : s.play();
-    else if (name == "reset") s.reset();
-    else if (name == "apply") s.apply();
-    else if (name == "undo") s.undo();
-    else if (name == "redo") s.redo();
-    else if (name == "add-segment") s.add_segment();
-    else if (name == "remove-segment") s.remove_segment();
-    else if (name == "close-loop") tools_.close_loop();
-    else if (name == "clear-loops") tools_.clear_loops();
-    else if (name == "end-gesture") {
-        // The end of a slider drag: its changes become one undo step.
-        if (region_gesture_) s.end_region_gesture("geodesic range");
-        if (curve_gesture_) s.end_curve_gesture("curve settings");
-        region_gesture_ = curve_gesture_ = 0;
-    } else if (name == "frame") loaded();
-    else if (name.rfind("view:", 0) == 0) {
-        const std::string v = name.substr(5);
-        const std::pair<const char*, editor::StandardView> views[] = {
-            {"front", editor::StandardView::front}, {"back", editor::StandardView::back},
-            {"left", editor::StandardView::left},   {"right", editor::StandardView::right},
-            {"top", editor::StandardView::top},     {"bottom", editor::StandardView::bottom},
-            {"iso", editor::StandardView::iso}};
-        for (const auto& [n, view] : views)
-            if (v == n) camera_.set_view(view);
-    } else throw InputError("action: unknown '" + name + "'");
-}
+editor::CommandContext App::context() { return {*session_, tools_, camera_, settings_, viewport(), *this}; }
 
 json App::state() const {
     const editor::EditorSession& s = *session_;
@@ -439,7 +366,8 @@ json App::state() const {
             {"status", status_},
             {"loops", {tools_.loops().size(), tools_.loop_in_progress().size()}},
             {"context_lost", lost_},
-            {"force_cpu", force_cpu_},
+            {"force_cpu", settings_.force_cpu},
+            {"wireframe", settings_.wireframe},
             {"autosave", autosave_state()},
             {"script", script_ ? json{{"done", script_->done()}, {"error", script_->error()}} : json()}};
 }
@@ -500,14 +428,6 @@ json App::overlay() const {
 json App::command(const json& c) {
     const std::string cmd = c.value("cmd", std::string());
     if (cmd == "state") return state();
-    if (cmd == "set") {
-        set(c);
-        return state();
-    }
-    if (cmd == "action") {
-        action(c.value("name", std::string()));
-        return state();
-    }
     if (cmd == "open") {
         open(c.value("path", std::string()));
         return {{"load_error", load_error_}};
@@ -545,7 +465,7 @@ json App::command(const json& c) {
         }
         return out;
     }
-    if (cmd == "gizmo") {
+    if (cmd == "gizmo-parts") {
         // Canvas pixels of a point on each part of the handle gizmo (tests aim the
         // pointer with them); null outside handle mode.
         const auto gizmo = tools_.gizmo(*session_, camera_, viewport());
@@ -566,20 +486,22 @@ json App::command(const json& c) {
         script_ = std::make_unique<editor::ScriptRunner>(editor::parse_script(c.at("actions").dump(), "script"));
         return state();
     }
-    if (cmd == "autosave") {
-        // {"answer": "restore" | "discard"} answers the offer; without it, saves now.
-        const std::string answer = c.value("answer", std::string());
-        if (answer.empty()) autosave_now();
-        else if (answer == "restore" || answer == "discard") answer_restore(answer == "restore");
-        else throw InputError("autosave: answer must be restore or discard");
-        return state();
-    }
     if (cmd == "context") {
         // Test hook: what the page's context-loss handlers call.
         c.value("lost", false) ? context_lost() : context_restored();
         return state();
     }
-    throw InputError("command: unknown '" + cmd + "'");
+    editor::CommandContext context = this->context();
+    if (cmd == "key") {
+        // The page's keys: the editor's key table; "handled" says whether one is bound.
+        const bool handled = editor::run_key(c.value("key", ""), c.value("ctrl", false), c.value("shift", false), context);
+        json out = state();
+        out["handled"] = handled;
+        return out;
+    }
+    // Everything else is a command of the editor's table (docs/commands.md).
+    editor::run_command(cmd, c, context);
+    return state();
 }
 
 std::size_t App::array(int which) {
@@ -596,7 +518,7 @@ void App::frame() {
     if (lost_) return;
     try {
         if (script_ && !script_->done()) {
-            script_->run_frame(*session_, tools_, camera_, viewport(), *this);
+            script_->run_frame(context());
             if (script_->done()) log(script_->failed() ? "script failed: " + script_->error() : "script: done");
         }
         // Integrate toward the target within the frame's budget. The page times
@@ -607,6 +529,7 @@ void App::frame() {
         const int taken = session_->update(budget);
         if (taken > 0) ms_per_step_ = (emscripten_get_now() - start) / taken;
         if (autosave_.maybe_save(*session_)) vfsd_page_autosaved();
+        view_.wireframe = settings_.wireframe;
         view_.draw(*session_, camera_, viewport());
     } catch (const std::exception& e) {
         status_ = e.what();
@@ -626,8 +549,8 @@ void App::context_restored() {
     // New GL objects for everything; the deformation restarts from the CPU state
     // and integrates back to the target time.
     view_.reset();
-    session_->set_force_cpu(!force_cpu_);  // each switch drops the deformation
-    session_->set_force_cpu(force_cpu_);
+    session_->set_force_cpu(!settings_.force_cpu);  // each switch drops the deformation
+    session_->set_force_cpu(settings_.force_cpu);
     init_gl();
     lost_ = false;
     vfsd_page_context(0);
