@@ -1,5 +1,6 @@
-// The editor's panels and keyboard shortcuts. Every control calls the editor core;
-// the shortcuts are listed once (kShortcuts) for tooltips and the help window.
+// The editor's panels and keyboard shortcuts. Every control runs a command of the
+// editor's table (docs/commands.md); keys go to the editor's key table, and the
+// help window lists it with the shell's own keys (kShellShortcuts).
 
 #include <cstdio>
 #include <filesystem>
@@ -66,197 +67,216 @@ void App::handle_shortcuts() {
     for (const auto& [code, name] : keys) {
         if (!pressed(code)) continue;
         try {
-            editor::CommandContext c = context();
-            editor::run_key(name, io.KeyCtrl, io.KeyShift, c);
+            editor_->key(name, io.KeyCtrl, io.KeyShift);
         } catch (const std::exception& e) {
-            status_ = e.what();
+            editor_->set_status(e.what());
         }
     }
 }
 
 void App::draw_panels() {
     if (!show_ui_) return;
-    editor::EditorSession& s = *session_;
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
     ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(0.92f);
     ImGui::Begin("vfsd", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-
-    // ---- file
-    if (ImGui::CollapsingHeader("File", ImGuiTreeNodeFlags_DefaultOpen)) {
-        ImGui::TextDisabled("%s", s.mesh_name().c_str());
-        ImGui::SetNextItemWidth(230);
-        const bool enter = ImGui::InputTextWithHint("##path", "mesh, scene .json or builtin:bar", path_field_,
-                                                    sizeof path_field_, ImGuiInputTextFlags_EnterReturnsTrue);
-        ImGui::SameLine();
-        if (ImGui::Button("Open") || enter) open(path_field_);
-        tooltip("Open a mesh (.obj .off .ply .stl .gltf .glb, builtin:NAME) or a scene (.json).\n"
-                "Files can also be dropped onto the window.");
-        if (!recent_.empty()) {
-            ImGui::SetNextItemWidth(230);
-            if (ImGui::BeginCombo("recent", recent_.front().c_str())) {
-                for (const std::string& r : std::deque<std::string>(recent_))
-                    if (ImGui::Selectable(r.c_str())) open(r);
-                ImGui::EndCombo();
-            }
-        }
-        if (!load_error_.empty()) ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", load_error_.c_str());
-        ImGui::SetNextItemWidth(230);
-        ImGui::InputText("output", output_field_, sizeof output_field_);
-        tooltip("Base name of exports: NAME.obj/.ply/.glb, NAME.json, NAME.png");
-        const std::string base = output_field_;
-        const auto attempt = [&](const char* what, const auto& action) {
-            try {
-                action();
-                status_ = what;
-            } catch (const std::exception& e) {
-                status_ = e.what();
-            }
-        };
-        for (const char* ext : {".obj", ".ply", ".glb"}) {
-            if (ImGui::Button((std::string("Export ") + ext).c_str()))
-                attempt(("exported " + base + ext).c_str(), [&] { s.export_mesh(base + ext); });
-            ImGui::SameLine();
-        }
-        ImGui::NewLine();
-        if (ImGui::Button("Save scene")) attempt(("saved " + base + ".json").c_str(), [&] { s.save_scene(base + ".json"); });
-        tooltip("A scene file that `vfsd deform` turns into the same result");
-        ImGui::SameLine();
-        if (ImGui::Button("Screenshot")) screenshot(base + ".png", true);
-        if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());
-    }
-
-    // ---- tools
-    if (ImGui::CollapsingHeader("Tools", ImGuiTreeNodeFlags_DefaultOpen)) {
-        for (const auto tool : editor::kAllTools) {
-            if (ImGui::RadioButton(editor::tool_name(tool), tools_.tool == tool)) command("tool", {{"name", editor::tool_name(tool)}});
-            if (ImGui::IsItemHovered()) ImGui::SetTooltip("shortcut: %s", shortcut_for(tool).c_str());
-            if (tool != editor::Tool::paint_inner && tool != editor::Tool::paint_s) ImGui::SameLine();
-        }
-        ImGui::NewLine();
-        const float d = float(s.diagonal());
-        float radius = float(tools_.brush.radius);
-        if (ImGui::SliderFloat("brush radius", &radius, 0.005f * d, 0.5f * d, "%.3f")) command("brush", {{"radius", radius}});
-        tooltip("[ and ] change it");
-        if (tools_.tool == editor::Tool::paint_s) {
-            float target = float(tools_.brush.s_target), strength = float(tools_.brush.strength);
-            if (ImGui::SliderFloat("s target", &target, 0.0f, 1.0f)) command("brush", {{"target", target}});
-            if (ImGui::SliderFloat("strength", &strength, 0.0f, 1.0f)) command("brush", {{"strength", strength}});
-        }
-        // g_min / g_max change the geodesic region live; one undo step per drag.
-        float g[2] = {float(tools_.g_min), float(tools_.g_max)};
-        if (ImGui::SliderFloat2("g_min, g_max", g, 0.0f, d, "%.3f"))
-            command("g-range", {{"g_min", g[0]}, {"g_max", g[1]}, {"gesture", true}});
-        if (ImGui::IsItemDeactivated()) command("end-gesture");
-        tooltip("Eq. (15): s = 0 within g_min of the picked vertex, 1 beyond g_max");
-        if (tools_.tool == editor::Tool::loops) {
-            ImGui::Text("loops: %zu closed, %zu points", tools_.loops().size(), tools_.loop_in_progress().size());
-            if (ImGui::Button("Close loop")) command("close-loop");
-            ImGui::SameLine();
-            if (ImGui::Button("Clear loops")) command("clear-loops");
-        }
-        if (!tools_.message.empty()) ImGui::TextWrapped("%s", tools_.message.c_str());
-    }
-
-    // ---- curve
-    if (ImGui::CollapsingHeader("Curve", ImGuiTreeNodeFlags_DefaultOpen)) {
-        const char* axes[] = {"free", "x", "y", "z"};
-        int axis = tools_.axis + 1;
-        ImGui::SetNextItemWidth(120);
-        if (ImGui::Combo("drag axis", &axis, axes, 4)) command("axis", {{"name", axes[axis]}});
-        tooltip("X, Y, Z toggle the constraint");
-        if (!s.curve().curve.is_handle) {
-            if (ImGui::Button("Add segment")) command("add-segment");
-            ImGui::SameLine();
-            if (ImGui::Button("Remove segment")) command("remove-segment");
-            ImGui::SameLine();
-            if (ImGui::Button("Handle")) command("tool", {{"name", "handle"}});
-            tooltip("H: click the surface to place a handle (sec. 6.2) instead of the curve");
-        } else {
-            ImGui::TextWrapped("Handle: drag the gizmo on the target. Centre: move in the screen plane; "
-                               "x / y / z axes (red, green, blue = normal): move along; rings: rotate about.");
-        }
-        const editor::CurveSettings& c = s.curve();
-        int mode = c.inner_motion == InnerMotionMode::Rotation ? 0 : 1;
-        if (ImGui::Combo("inner motion", &mode, "rotation\0translation\0"))
-            command("inner-motion", {{"mode", mode == 0 ? "rotation" : "translation"}});
-        float alpha[2] = {float(c.twist_degrees[0]), float(c.twist_degrees[1])};
-        if (ImGui::SliderFloat2("alpha0, alpha1", alpha, -360.0f, 360.0f, "%.0f deg"))
-            command("twist", {{"alpha", {alpha[0], alpha[1]}}, {"gesture", true}});
-        if (ImGui::IsItemDeactivated()) command("end-gesture");
-        tooltip("Twist about the curve's tangent, eq. (14)");
-    }
-
-    // ---- time
-    if (ImGui::CollapsingHeader("Time", ImGuiTreeNodeFlags_DefaultOpen)) {
-        float target = float(s.target_time());
-        if (ImGui::SliderFloat("target t", &target, 0.0f, 1.0f, "%.3f")) command("set-time", {{"t", target}});
-        tooltip("The dark sphere; the white one is the current time");
-        char label[64];
-        std::snprintf(label, sizeof label, "t = %.3f", s.time());
-        const double span = std::abs(s.target_time() - 0.0);
-        ImGui::ProgressBar(span > 0 ? float(s.time() / span) : 0.0f, ImVec2(-1, 0), label);
-        if (ImGui::Button(s.moving() ? "Pause" : "Play")) command("play-pause");
-        tooltip("Space");
-        ImGui::SameLine();
-        if (ImGui::Button("Reset")) command("reset");
-        tooltip("R");
-        ImGui::SameLine();
-        if (ImGui::Button("Apply")) command("apply");
-        tooltip("A: the deformed mesh becomes the base of the next deformation");
-        ImGui::SameLine();
-        if (ImGui::Button("Undo")) command("undo");
-        tooltip("Ctrl+Z");
-        ImGui::SameLine();
-        if (ImGui::Button("Redo")) command("redo");
-        tooltip("Ctrl+Shift+Z");
-    }
-
-    // ---- stats and warnings
-    if (ImGui::CollapsingHeader("Stats", ImGuiTreeNodeFlags_DefaultOpen)) {
-        const editor::SessionStats& st = s.stats();
-        ImGui::Text("%zu vertices, %zu triangles", st.vertices, st.triangles);
-        ImGui::Text("backend: %s", st.backend.c_str());
-        if (!st.backend_reason.empty()) {
-            ImGui::SameLine();
-            ImGui::TextDisabled("(why?)");
-            tooltip(st.backend_reason.c_str());
-        }
-        ImGui::Text("%.3f ms/step, volume error %.3f%%", st.ms_per_step, st.volume_error_percent);
-        if (st.flipped_triangles > 0 && st.first_fold_time >= 0.0)
-            ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.3f, 1.0f), "flipped triangles: %zu (since t = %.2f)",
-                               st.flipped_triangles, st.first_fold_time);
-        else
-            ImGui::Text("flipped triangles: %zu", st.flipped_triangles);
-        ImGui::Text("undo: %zu, redo: %zu", s.history().undo_count(), s.history().redo_count());
-        bool cpu = settings_.force_cpu;
-        if (ImGui::Checkbox("force CPU", &cpu)) command("force-cpu", {{"on", cpu}});
-        ImGui::SameLine();
-        bool wireframe = settings_.wireframe;
-        if (ImGui::Checkbox("wireframe", &wireframe)) command("wireframe", {{"on", wireframe}});
-        ImGui::SameLine();
-        if (ImGui::Button("Help")) show_help_ = true;
-        tooltip("F1");
-    }
-    for (const std::string& w : s.warnings()) ImGui::TextColored(ImVec4(0.75f, 0.35f, 0.0f, 1), "! %s", w.c_str());
+    if (ImGui::CollapsingHeader("File", ImGuiTreeNodeFlags_DefaultOpen)) draw_file_panel();
+    if (ImGui::CollapsingHeader("Tools", ImGuiTreeNodeFlags_DefaultOpen)) draw_tools_panel();
+    if (ImGui::CollapsingHeader("Curve", ImGuiTreeNodeFlags_DefaultOpen)) draw_curve_panel();
+    if (ImGui::CollapsingHeader("Time", ImGuiTreeNodeFlags_DefaultOpen)) draw_time_panel();
+    if (ImGui::CollapsingHeader("Stats", ImGuiTreeNodeFlags_DefaultOpen)) draw_stats_panel();
+    for (const std::string& w : editor_->session().warnings())
+        ImGui::TextColored(ImVec4(0.75f, 0.35f, 0.0f, 1), "! %s", w.c_str());
     ImGui::End();
+    if (show_help_) draw_help();
+}
 
-    if (show_help_) {
-        ImGui::SetNextWindowPos(ImVec2(350, 8), ImGuiCond_Appearing);
-        ImGui::Begin("Shortcuts", &show_help_, ImGuiWindowFlags_AlwaysAutoResize);
-        if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg)) {
-            const auto row = [](const char* keys, const char* what) {
-                ImGui::TableNextColumn();
-                ImGui::TextUnformatted(keys);
-                ImGui::TableNextColumn();
-                ImGui::TextUnformatted(what);
-            };
-            for (const editor::KeyBinding& k : editor::key_bindings()) row(k.key, k.help);
-            for (const Shortcut& k : kShellShortcuts) row(k.keys, k.what);
-            ImGui::EndTable();
+void App::draw_file_panel() {
+    const editor::EditorSession& s = editor_->session();
+    ImGui::TextDisabled("%s", s.mesh_name().c_str());
+    ImGui::SetNextItemWidth(230);
+    const bool enter = ImGui::InputTextWithHint("##path", "mesh, scene .json or builtin:bar", path_field_,
+                                                sizeof path_field_, ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::SameLine();
+    if (ImGui::Button("Open") || enter) open(path_field_);
+    tooltip("Open a mesh (.obj .off .ply .stl .gltf .glb, builtin:NAME) or a scene (.json).\n"
+            "Files can also be dropped onto the window.");
+    if (!recent_.empty()) {
+        ImGui::SetNextItemWidth(230);
+        if (ImGui::BeginCombo("recent", recent_.front().c_str())) {
+            for (const std::string& r : std::deque<std::string>(recent_))
+                if (ImGui::Selectable(r.c_str())) open(r);
+            ImGui::EndCombo();
         }
-        ImGui::End();
     }
+    const std::string& load_error = editor_->load_error();
+    if (!load_error.empty()) ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", load_error.c_str());
+    ImGui::SetNextItemWidth(230);
+    ImGui::InputText("output", output_field_, sizeof output_field_);
+    tooltip("Base name of exports: NAME.obj/.ply/.glb, NAME.json, NAME.png");
+    const std::string base = output_field_;
+    const auto write = [&](const char* name, const std::string& path, const char* done) {
+        if (command(name, {{"path", path}})) editor_->set_status(done + path);
+    };
+    for (const char* ext : {".obj", ".ply", ".glb"}) {
+        if (ImGui::Button((std::string("Export ") + ext).c_str())) write("export", base + ext, "exported ");
+        ImGui::SameLine();
+    }
+    ImGui::NewLine();
+    if (ImGui::Button("Save scene")) write("save-scene", base + ".json", "saved ");
+    tooltip("A scene file that `vfsd deform` turns into the same result");
+    ImGui::SameLine();
+    if (ImGui::Button("Screenshot")) command("screenshot", {{"path", base + ".png"}});
+    if (!editor_->status().empty()) ImGui::TextWrapped("%s", editor_->status().c_str());
+}
+
+void App::draw_tools_panel() {
+    const editor::EditorSession& s = editor_->session();
+    const editor::ToolController& tools = editor_->tools();
+    for (const auto tool : editor::kAllTools) {
+        if (ImGui::RadioButton(editor::tool_name(tool), tools.tool == tool)) command("tool", {{"name", editor::tool_name(tool)}});
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("shortcut: %s", shortcut_for(tool).c_str());
+        if (tool != editor::Tool::paint_inner && tool != editor::Tool::paint_s) ImGui::SameLine();
+    }
+    ImGui::NewLine();
+    const float d = float(s.diagonal());
+    float radius = float(tools.brush.radius);
+    if (ImGui::SliderFloat("brush radius", &radius, 0.005f * d, 0.5f * d, "%.3f")) command("brush", {{"radius", radius}});
+    tooltip("[ and ] change it");
+    if (tools.tool == editor::Tool::paint_s) {
+        float target = float(tools.brush.s_target), strength = float(tools.brush.strength);
+        if (ImGui::SliderFloat("s target", &target, 0.0f, 1.0f)) command("brush", {{"target", target}});
+        if (ImGui::SliderFloat("strength", &strength, 0.0f, 1.0f)) command("brush", {{"strength", strength}});
+    }
+    // g_min / g_max change the geodesic region live; one undo step per drag.
+    float g[2] = {float(tools.g_min), float(tools.g_max)};
+    if (ImGui::SliderFloat2("g_min, g_max", g, 0.0f, d, "%.3f"))
+        command("g-range", {{"g_min", g[0]}, {"g_max", g[1]}, {"gesture", true}});
+    if (ImGui::IsItemDeactivated()) command("end-gesture");
+    tooltip("Eq. (15): s = 0 within g_min of the picked vertex, 1 beyond g_max");
+    if (tools.tool == editor::Tool::loops) {
+        ImGui::Text("loops: %zu closed, %zu points", tools.loops().size(), tools.loop_in_progress().size());
+        if (ImGui::Button("Close loop")) command("close-loop");
+        ImGui::SameLine();
+        if (ImGui::Button("Clear loops")) command("clear-loops");
+    }
+    if (!tools.message.empty()) ImGui::TextWrapped("%s", tools.message.c_str());
+}
+
+void App::draw_curve_panel() {
+    const editor::EditorSession& s = editor_->session();
+    const char* axes[] = {"free", "x", "y", "z"};
+    int axis = editor_->tools().axis + 1;
+    ImGui::SetNextItemWidth(120);
+    if (ImGui::Combo("drag axis", &axis, axes, 4)) command("axis", {{"name", axes[axis]}});
+    tooltip("X, Y, Z toggle the constraint");
+    if (!s.curve().curve.is_handle) {
+        if (ImGui::Button("Add segment")) command("add-segment");
+        ImGui::SameLine();
+        if (ImGui::Button("Remove segment")) command("remove-segment");
+        ImGui::SameLine();
+        if (ImGui::Button("Handle")) command("tool", {{"name", "handle"}});
+        tooltip("H: click the surface to place a handle (sec. 6.2) instead of the curve");
+    } else {
+        ImGui::TextWrapped("Handle: drag the gizmo on the target. Centre: move in the screen plane; "
+                           "x / y / z axes (red, green, blue = normal): move along; rings: rotate about.");
+    }
+    const editor::CurveSettings& c = s.curve();
+    int mode = c.inner_motion == InnerMotionMode::Rotation ? 0 : 1;
+    if (ImGui::Combo("inner motion", &mode, "rotation\0translation\0"))
+        command("inner-motion", {{"mode", mode == 0 ? "rotation" : "translation"}});
+    float alpha[2] = {float(c.twist_degrees[0]), float(c.twist_degrees[1])};
+    if (ImGui::SliderFloat2("alpha0, alpha1", alpha, -360.0f, 360.0f, "%.0f deg"))
+        command("twist", {{"alpha", {alpha[0], alpha[1]}}, {"gesture", true}});
+    if (ImGui::IsItemDeactivated()) command("end-gesture");
+    tooltip("Twist about the curve's tangent, eq. (14)");
+}
+
+void App::draw_time_panel() {
+    const editor::EditorSession& s = editor_->session();
+    float target = float(s.target_time());
+    if (ImGui::SliderFloat("target t", &target, 0.0f, 1.0f, "%.3f")) command("set-time", {{"t", target}});
+    tooltip("The dark sphere; the white one is the current time");
+    char label[64];
+    std::snprintf(label, sizeof label, "t = %.3f", s.time());
+    const double span = std::abs(s.target_time() - 0.0);
+    ImGui::ProgressBar(span > 0 ? float(s.time() / span) : 0.0f, ImVec2(-1, 0), label);
+    if (ImGui::Button(s.moving() ? "Pause" : "Play")) command("play-pause");
+    tooltip("Space");
+    struct Action {
+        const char *label, *command, *tip;
+    };
+    for (const Action& a : {Action{"Reset", "reset", "R"},
+                            Action{"Apply", "apply", "A: the deformed mesh becomes the base of the next deformation"},
+                            Action{"Undo", "undo", "Ctrl+Z"}, Action{"Redo", "redo", "Ctrl+Shift+Z"}}) {
+        ImGui::SameLine();
+        if (ImGui::Button(a.label)) command(a.command);
+        tooltip(a.tip);
+    }
+}
+
+void App::draw_stats_panel() {
+    const editor::EditorSession& s = editor_->session();
+    const editor::SessionStats& st = s.stats();
+    ImGui::Text("%zu vertices, %zu triangles", st.vertices, st.triangles);
+    ImGui::Text("backend: %s", st.backend.c_str());
+    if (!st.backend_reason.empty()) {
+        ImGui::SameLine();
+        ImGui::TextDisabled("(why?)");
+        tooltip(st.backend_reason.c_str());
+    }
+    ImGui::Text("%.3f ms/step, volume error %.3f%%", st.ms_per_step, st.volume_error_percent);
+    if (st.flipped_triangles > 0 && st.first_fold_time >= 0.0)
+        ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.3f, 1.0f), "flipped triangles: %zu (since t = %.2f)",
+                           st.flipped_triangles, st.first_fold_time);
+    else
+        ImGui::Text("flipped triangles: %zu", st.flipped_triangles);
+    ImGui::Text("undo: %zu, redo: %zu", s.history().undo_count(), s.history().redo_count());
+    bool cpu = editor_->settings().force_cpu;
+    if (ImGui::Checkbox("force CPU", &cpu)) command("force-cpu", {{"on", cpu}});
+    ImGui::SameLine();
+    bool wireframe = editor_->settings().wireframe;
+    if (ImGui::Checkbox("wireframe", &wireframe)) command("wireframe", {{"on", wireframe}});
+    ImGui::SameLine();
+    if (ImGui::Button("Help")) show_help_ = true;
+    tooltip("F1");
+}
+
+void App::draw_help() {
+    ImGui::SetNextWindowPos(ImVec2(350, 8), ImGuiCond_Appearing);
+    ImGui::Begin("Shortcuts", &show_help_, ImGuiWindowFlags_AlwaysAutoResize);
+    if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg)) {
+        const auto row = [](const char* keys, const char* what) {
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(keys);
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(what);
+        };
+        for (const editor::KeyBinding& k : editor::key_bindings()) row(k.key, k.help);
+        for (const Shortcut& k : kShellShortcuts) row(k.keys, k.what);
+        ImGui::EndTable();
+    }
+    ImGui::End();
+}
+
+constexpr const char* kRestoreTitle = "Restore autosave";
+
+void App::draw_restore_offer() {
+    const editor::Autosave& autosave = editor_->autosave();
+    const auto& offer = autosave.offer();
+    if (offer && !ImGui::IsPopupOpen(kRestoreTitle)) ImGui::OpenPopup(kRestoreTitle);
+    ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    if (!ImGui::BeginPopupModal(kRestoreTitle, nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+    if (offer) {
+        ImGui::Text("Restore the autosaved session from %s (%s)?", offer->written_text().c_str(), offer->mesh.c_str());
+        ImGui::TextDisabled("%s", autosave.directory().c_str());
+        const bool restore = ImGui::Button("Restore");
+        ImGui::SameLine();
+        const bool discard = ImGui::Button("Discard");
+        if (restore || discard) command("restore-autosave", {{"answer", restore ? "restore" : "discard"}});
+    }
+    if (!autosave.offer()) ImGui::CloseCurrentPopup();  // answered here or by a script
+    ImGui::EndPopup();
 }
 
 }  // namespace vfsd::desktop
