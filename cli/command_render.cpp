@@ -12,6 +12,7 @@
 
 #include "base/error.h"
 #include "cli/commands.h"
+#include "scene/framing.h"
 #include "scene/prepared_scene.h"
 
 #if VFSD_HAS_GPU
@@ -64,7 +65,7 @@ int run_render(const Args& args) {
 
     // The camera frames the whole deformation, so frames of one scene at any time line up.
     const gpu::Camera camera =
-        gpu::Camera::framing(gpu::deformation_frame_points(start, prepared.region.s, prepared.motion));
+        gpu::Camera::framing(deformation_frame_points(start, prepared.region.s, prepared.motion));
     const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
     gpu::RenderOptions options;
     options.current_time = time;

@@ -1,9 +1,11 @@
 // The editor's command table: arguments are validated by type, the page's command
-// strings (web/vfsd-page.js) and every key binding run natively, and
-// docs/commands.md lists the table as it is.
+// strings (web/vfsd-page.js) and every key binding run natively, the page's API
+// answers through the Editor without a browser, and docs/commands.md lists the
+// table as it is.
 
 #include <catch2/catch.hpp>
 
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -11,6 +13,9 @@
 
 #include "base/error.h"
 #include "editor/commands.h"
+#include "editor/editor.h"
+#include "editor/page_api.h"
+#include "test_io_support.h"
 
 using namespace vfsd;
 using namespace vfsd::editor;
@@ -36,15 +41,15 @@ public:
     std::vector<bool> answers;
 };
 
-// An editor on the bar with one undo and one redo step to take.
-struct Editor {
+// The table's context on the bar, with one undo and one redo step to take.
+struct TableEditor {
     EditorSession session;
     ToolController tools;
     Camera camera;
     EditorSettings settings;
     QuietHost host;
 
-    Editor() {
+    TableEditor() {
         session.open_mesh("builtin:bar");
         tools.adapt_to(session);
         camera.frame(session.base_positions(), 1.5);
@@ -86,7 +91,7 @@ std::set<std::string> matches(const std::string& text, const std::string& patter
 }  // namespace
 
 TEST_CASE("Commands: arguments are checked against the table", "[editor][commands]") {
-    Editor e;
+    TableEditor e;
     CHECK_THROWS_WITH(e.run("set-time"), Catch::Contains("t: missing"));
     CHECK_THROWS_WITH(e.run("set-time", {{"t", "1"}}), Catch::Contains("t: expected a number"));
     CHECK_THROWS_WITH(e.run("set-time", {{"t", 1}, {"when", 2}}), Catch::Contains("unknown argument 'when'"));
@@ -102,7 +107,9 @@ TEST_CASE("Commands: arguments are checked against the table", "[editor][command
 
 TEST_CASE("Commands: the page's command strings run natively", "[editor][commands][web]") {
     const std::string page = read_text(VFSD_SOURCE_DIR "/web/vfsd-page.js");
-    const std::string shell = read_text(VFSD_SOURCE_DIR "/web/main.cpp");
+    // The page's own queries: page_api.cpp's, and the shell's context hook.
+    const std::string shell = read_text(VFSD_SOURCE_DIR "/engine/editor/page_api.cpp") +
+                              read_text(VFSD_SOURCE_DIR "/web/main.cpp");
 
     SECTION("every command the page sends is the table's or one of the page's queries") {
         const std::set<std::string> queries = matches(shell, R"re(cmd == "([a-z-]+)")re");
@@ -123,12 +130,12 @@ TEST_CASE("Commands: the page's command strings run natively", "[editor][command
             const std::string name = c["cmd"];
             if (queries.count(name)) continue;  // a query of the page's own (state, checksum, ...)
             INFO(c.dump());
-            Editor e;
+            TableEditor e;
             CHECK_NOTHROW(e.run(name, c));
         }
     }
     SECTION("the sliders' strings and their gestures") {
-        Editor e;
+        TableEditor e;
         const std::size_t before = e.session.history().undo_count();
         e.run("g-range", json::parse(R"({"cmd": "g-range", "gesture": true, "g_min": 0.2})"));
         e.run("g-range", json::parse(R"({"cmd": "g-range", "gesture": true, "g_max": 0.7})"));
@@ -155,14 +162,14 @@ TEST_CASE("Commands: every key binding runs its command", "[editor][commands][ke
     for (const KeyBinding& k : key_bindings()) {
         INFO(k.key);
         CHECK(key_name(k.key, false, false) == k.key);  // names are key_name's own
-        Editor e;
+        TableEditor e;
         const std::string key = std::string(k.key);
         const bool ctrl = key.rfind("ctrl+", 0) == 0, shift = key.rfind("ctrl+shift+", 0) == 0;
         const std::string bare = key.substr(shift ? 11 : ctrl ? 5 : 0);
         CommandContext c = e.context();
         CHECK(run_key(bare == "space" ? " " : bare, ctrl, shift, c));
     }
-    Editor e;
+    TableEditor e;
     CommandContext c = e.context();
     const double radius = e.tools.brush.radius;
     run_key("]", false, false, c);
@@ -187,4 +194,62 @@ TEST_CASE("Commands: docs/commands.md lists the table", "[editor][commands][docs
         std::ofstream(VFSD_SOURCE_DIR "/build/commands.md.expected") << commands_markdown();
         FAIL("docs/commands.md differs from the table; the table's text is in build/commands.md.expected");
     }
+}
+
+namespace {
+
+// A window of fixed size without a GPU: the Editor as the page's shell holds it.
+class TestShell final : public Shell {
+public:
+    Viewport viewport() const override { return {900, 600}; }
+    void log(const std::string&) override {}
+    void screenshot(const std::string&, bool) override {}
+};
+
+}  // namespace
+
+TEST_CASE("Commands: the page's API answers natively through the Editor", "[editor][commands][web]") {
+    test::ScratchDir dir;
+    TestShell shell;
+    EditorOptions options;
+    options.autosave_directory = dir.file("autosave");
+    Editor editor(shell, {}, "no GPU in this test", options);
+    editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+    const PageInfo page{dir.path().string(), "test", false};
+    const auto send = [&](const std::string& text) { return page_command(editor, json::parse(text), page); };
+
+    const json state = send(R"({"cmd": "state"})");
+    CHECK(state["stats"]["vertices"].get<int>() > 0);
+    CHECK(state["tool"] == "navigate");
+    CHECK(send(R"({"cmd": "tool", "name": "paint inner"})")["tool"] == "paint inner");
+    CHECK(send(R"({"cmd": "key", "key": "g", "ctrl": false, "shift": false})")["tool"] == "geodesic");
+    CHECK(send(R"({"cmd": "key", "key": "q", "ctrl": false, "shift": false})")["handled"] == false);
+    CHECK_THROWS_WITH(send(R"({"cmd": "brush", "radius": "wide"})"), Catch::Contains("radius: expected a number"));
+    CHECK(send(R"({"cmd": "open", "path": "no-such-file.obj"})")["load_error"] != "");
+
+    // Time runs in frames, as the page's runTo waits for them.
+    send(R"({"cmd": "set-time", "t": 0.5})");
+    while (editor.session().moving()) editor.advance();
+    const double moved = send(R"({"cmd": "checksum"})")["checksum"];
+    const json exported = send(R"({"cmd": "export-mesh", "format": "obj"})");
+    CHECK(std::filesystem::exists(exported["path"].get<std::string>()));
+    const json scene = send(R"({"cmd": "export-scene"})")["scene"];
+    CHECK(scene["target_time"] == 0.5);
+    send(R"({"cmd": "key", "key": "r"})");  // reset
+    CHECK(send(R"({"cmd": "checksum"})")["checksum"] != moved);
+
+    // The pointer's aim: a mesh point's pixel, and the gizmo's parts once a handle is placed.
+    const Vec3 centre = editor.camera().target;
+    const json pixels = send(R"({"cmd": "project", "points": [[)" + std::to_string(centre.x) + ", " +
+                             std::to_string(centre.y) + ", " + std::to_string(centre.z) + "]]}")["pixels"];
+    CHECK(pixels[0][0].get<double>() == Approx(450.0).margin(1.0));  // the view's centre
+    CHECK(pixels[0][1].get<double>() == Approx(300.0).margin(1.0));
+    CHECK(send(R"({"cmd": "gizmo-parts"})")["parts"].is_null());
+    send(R"({"cmd": "place-handle", "at": [450, 300]})");
+    CHECK(send(R"({"cmd": "gizmo-parts"})")["parts"].contains("ring-z"));
+
+    // The overlay the page paints: the handle's two points and its gizmo.
+    const json overlay = overlay_json(editor.overlay(std::nullopt));
+    CHECK(overlay["points"].size() == 2);
+    CHECK(overlay["gizmo"].is_object());
 }

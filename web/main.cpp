@@ -20,26 +20,19 @@
 #include <emscripten/html5.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
-#include <optional>
-#include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "base/error.h"
 #include "editor/editor.h"
 #include "editor/gpu_live_deformation.h"
+#include "editor/page_api.h"
 #include "editor/session_view.h"
 #include "gpu/capabilities.h"
 #include "gpu/context.h"
-#include "gpu/gl.h"
-#include "gpu/renderer.h"
-#include "scene/scene.h"
 
 // The page's side (web/vfsd-page.js): start-up options, and one call per frame.
 EM_JS(char*, vfsd_page_options, (), {
@@ -99,59 +92,6 @@ private:
     EMSCRIPTEN_WEBGL_CONTEXT_HANDLE handle_;
 };
 
-json points_json(const std::vector<Vec3>& points) {
-    json out = json::array();
-    for (const Vec3& p : points) out.push_back({p.x, p.y, p.z});
-    return out;
-}
-
-std::string css_colour(editor::Rgb c) {
-    return "rgb(" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " + std::to_string(c.b) + ")";
-}
-
-// The handle gizmo's shapes in canvas pixels (editor/handle_gizmo.h).
-json gizmo_json(const editor::GizmoShapes& shapes) {
-    json out = {{"axes", json::array()},
-                {"rings", json::array()},
-                {"centre", {shapes.centre.x, shapes.centre.y, shapes.centre_radius}},
-                {"centre_colour", css_colour(shapes.centre_colour)}};
-    for (const editor::GizmoRing& ring : shapes.rings) {
-        json points = json::array();
-        for (const glm::dvec2& p : ring.points) points.push_back({p.x, p.y});
-        out["rings"].push_back({{"points", points}, {"colour", css_colour(ring.colour)}});
-    }
-    for (const editor::GizmoSegment& axis : shapes.axes)
-        out["axes"].push_back({{"from", {axis.from.x, axis.from.y}}, {"to", {axis.to.x, axis.to.y}},
-                               {"colour", css_colour(axis.colour)}});
-    return out;
-}
-
-std::string read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-json pixel(glm::dvec2 p) { return {p.x, p.y}; }
-
-// The Editor's overlay as the page draws it (vfsd-page.js, drawOverlay).
-json overlay_json(const editor::Overlay& o) {
-    json out = {{"polygon", json::array()}, {"points", json::array()}, {"loops", json::array()},
-                {"current", json::array()}, {"brush", nullptr}, {"gizmo", nullptr}};
-    for (const auto& [a, b] : o.polygon) out["polygon"].push_back({pixel(a), pixel(b)});
-    for (const editor::OverlayPoint& p : o.points) out["points"].push_back({{"at", pixel(p.at)}, {"knot", p.knot}, {"hot", p.hot}});
-    if (o.gizmo) out["gizmo"] = gizmo_json(*o.gizmo);
-    for (const auto& loop : o.loops) {
-        json l = json::array();
-        for (const glm::dvec2& p : loop) l.push_back(pixel(p));
-        out["loops"].push_back(l);
-    }
-    for (const glm::dvec2& p : o.loop_in_progress) out["current"].push_back(pixel(p));
-    if (o.brush) out["brush"] = {o.brush->x, o.brush->y, o.brush->z};
-    return out;
-}
-
 class App final : public editor::Shell {
 public:
     explicit App(const json& options);
@@ -175,13 +115,7 @@ public:
 
 private:
     void init_gl();
-    json load_scene(json scene);
-    json export_mesh(const std::string& format);
-    json export_scene();
-    json project(const json& points) const;
-    json gizmo_parts() const;
-    json state() const;
-    json autosave_state() const;
+    editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_}; }
 
     EMSCRIPTEN_WEBGL_CONTEXT_HANDLE gl_ = 0;
     bool lost_ = false;
@@ -247,14 +181,6 @@ editor::Viewport App::viewport() const {
     return {std::max(w, 1), std::max(h, 1)};
 }
 
-json App::load_scene(json scene) {
-    // Without "mesh" the scene applies to the current mesh.
-    if (!scene.is_object()) throw InputError("scene: expected a JSON object");
-    if (!scene.contains("mesh")) scene["mesh"] = editor_->session().mesh_name();
-    editor_->open_scene(parse_scene(scene, kFiles, "scene"));
-    return state();
-}
-
 // kind: 0 press, 1 move, 2 release, 3 leave; another button or Shift pans.
 void App::pointer(int kind, double x, double y, int button, bool shift) {
     if (kind == 0) editor_->press(x, y, button != 0 || shift);
@@ -263,135 +189,11 @@ void App::pointer(int kind, double x, double y, int button, bool shift) {
     else editor_->leave();
 }
 
-json App::state() const {
-    const editor::EditorSession& s = editor_->session();
-    const editor::ToolController& tools = editor_->tools();
-    const editor::ScriptRunner* script = editor_->script();
-    const editor::SessionStats& st = s.stats();
-    json stats = {{"vertices", st.vertices},
-                  {"triangles", st.triangles},
-                  {"time", s.time()},
-                  {"backend", st.backend},
-                  {"ms_per_step", editor_->ms_per_step()},
-                  {"volume_error_percent", st.volume_error_percent},
-                  {"flipped_triangles", st.flipped_triangles},
-                  {"first_fold_time", st.first_fold_time}};
-    const editor::CurveSettings& c = s.curve();
-    return {{"stats", stats},
-            {"backend_reason", st.backend_reason},
-            {"renderer", gl_renderer_},
-            {"target_time", s.target_time()},
-            {"moving", s.moving()},
-            {"tool", editor::tool_name(tools.tool)},
-            {"radius", tools.brush.radius},
-            {"s_target", tools.brush.s_target},
-            {"strength", tools.brush.strength},
-            {"g_min", tools.g_min},
-            {"g_max", tools.g_max},
-            {"axis", tools.axis},
-            {"diagonal", s.diagonal()},
-            {"inner_motion", c.inner_motion == InnerMotionMode::Translation ? "translation" : "rotation"},
-            {"alpha", {c.twist_degrees[0], c.twist_degrees[1]}},
-            {"is_handle", c.curve.is_handle},
-            {"control_points", points_json(s.control_points())},
-            {"undo", s.history().undo_count()},
-            {"redo", s.history().redo_count()},
-            {"mesh", s.mesh_name()},
-            {"warnings", s.warnings()},
-            {"message", tools.message},
-            {"load_error", editor_->load_error()},
-            {"status", editor_->status()},
-            {"loops", {tools.loops().size(), tools.loop_in_progress().size()}},
-            {"context_lost", lost_},
-            {"force_cpu", editor_->settings().force_cpu},
-            {"wireframe", editor_->settings().wireframe},
-            {"autosave", autosave_state()},
-            {"script", script ? json{{"done", script->done()}, {"error", script->error()}} : json()}};
-}
-
-json App::autosave_state() const {
-    json offer;
-    if (const auto& o = editor_->autosave().offer())
-        offer = {{"written", o->written_text()}, {"mesh", std::filesystem::path(o->mesh).filename().string()}};
-    return {{"offer", offer}, {"behind", editor_->autosave().behind(editor_->session())}};
-}
-
-json App::export_mesh(const std::string& format) {
-    if (format != "obj" && format != "ply" && format != "glb" && format != "off")
-        throw InputError("export: format must be obj, ply, glb or off");
-    const std::string stem = std::filesystem::path(editor_->session().mesh_name()).stem().string();
-    const std::string name = (stem.rfind("builtin:", 0) == 0 ? stem.substr(8) : stem) + "-deformed." + format;
-    const std::string path = std::string(kFiles) + "/" + name;
-    editor_->command("export", {{"path", path}});
-    return {{"path", path}, {"name", name}};
-}
-
-json App::export_scene() {
-    // Written beside the uploaded meshes so the mesh path is the file's name;
-    // after an apply the baked mesh comes along (NAME.mesh.ply).
-    const std::string path = std::string(kFiles) + "/vfsd-scene.json";
-    editor_->command("save-scene", {{"path", path}});
-    json out = {{"scene", json::parse(read_file(path))}, {"path", path}, {"files", json::array()}};
-    const std::string mesh = out["scene"].value("mesh", std::string());
-    if (mesh == "vfsd-scene.mesh.ply") out["files"].push_back(std::string(kFiles) + "/" + mesh);
-    return out;
-}
-
-json App::project(const json& points) const {
-    // Canvas pixels of points (tests aim the pointer with them), and the eye.
-    const editor::Camera& camera = editor_->camera();
-    json out = {{"pixels", json::array()}, {"eye", points_json({camera.eye()})[0]}};
-    for (const json& p : points) {
-        const glm::dvec3 q = camera.project(Vec3(p[0].get<double>(), p[1].get<double>(), p[2].get<double>()), viewport());
-        out["pixels"].push_back({q.x, q.y});
-    }
-    return out;
-}
-
-json App::gizmo_parts() const {
-    // Canvas pixels of a point on each part of the handle gizmo (tests aim the
-    // pointer with them); null outside handle mode.
-    const editor::Camera& camera = editor_->camera();
-    const auto gizmo = editor_->tools().gizmo(editor_->session(), camera, viewport());
-    if (!gizmo) return {{"parts", nullptr}};
-    json parts = json::object();
-    for (const editor::GizmoPart part : editor::kGizmoParts)
-        if (const auto p = gizmo->grab_point(part)) parts[editor::gizmo_part_name(part)] = {p->x, p->y};
-    return {{"parts", parts}, {"centre", {gizmo->centre().x, gizmo->centre().y}}};
-}
-
-// A cheap fingerprint of positions.
-double checksum(const std::vector<Vec3>& p) {
-    double sum = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i) sum += double(1 + i % 7) * (p[i].x + 2.0 * p[i].y + 3.0 * p[i].z);
-    return sum;
-}
-
-// The page's queries by name; everything else is a command of the editor's table
-// (docs/commands.md).
+// The page's commands (editor/page_api.h), and the context-loss handlers' test hook.
 json App::command(const json& c) {
-    const std::string cmd = c.value("cmd", std::string());
-    if (cmd == "state") return state();
-    if (cmd == "open") {
-        editor_->open(c.value("path", std::string()));  // a failure keeps the document and says why
-        return {{"load_error", editor_->load_error()}};
-    }
-    if (cmd == "load-scene") return load_scene(c.value("scene", json()));
-    if (cmd == "export-mesh") return export_mesh(c.value("format", std::string("ply")));
-    if (cmd == "export-scene") return export_scene();
-    if (cmd == "project") return project(c.at("points"));
-    if (cmd == "gizmo-parts") return gizmo_parts();
-    if (cmd == "checksum") return {{"checksum", checksum(editor_->session().positions())}};
-    if (cmd == "script") editor_->run_script(editor::parse_script(c.at("actions").dump(), "script"));
-    else if (cmd == "context") c.value("lost", false) ? context_lost() : context_restored();  // the page's handlers' test hook
-    else if (cmd == "key") {
-        // The editor's key table; "handled" says whether a command is bound to the key.
-        const bool handled = editor_->key(c.value("key", ""), c.value("ctrl", false), c.value("shift", false));
-        json out = state();
-        out["handled"] = handled;
-        return out;
-    } else editor_->command(cmd, c);
-    return state();
+    if (c.value("cmd", std::string()) != "context") return editor::page_command(*editor_, c, page());
+    c.value("lost", false) ? context_lost() : context_restored();
+    return editor::page_state(*editor_, page());
 }
 
 std::size_t App::array(int which) {
@@ -413,7 +215,7 @@ void App::frame() {
         editor_->set_status(e.what());
         log(std::string("frame: ") + e.what());
     }
-    vfsd_page_frame(overlay_json(editor_->overlay(editor_->pointer())).dump().c_str());
+    vfsd_page_frame(editor::overlay_json(editor_->overlay(editor_->pointer())).dump().c_str());
 }
 
 void App::context_lost() {

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "base/error.h"
-#include "gpu/renderer.h"
+#include "scene/framing.h"
 
 namespace vfsd::editor {
 namespace {
@@ -77,7 +77,7 @@ void Editor::open_scene(const Scene& scene) {
 void Editor::loaded() {
     // Frame the mesh and the whole curve, as `vfsd render` does.
     camera_ = Camera();
-    camera_.frame(gpu::deformation_frame_points(session_->base_positions(), session_->s(), session_->motion()),
+    camera_.frame(deformation_frame_points(session_->base_positions(), session_->s(), session_->motion()),
                   shell_.viewport().aspect());
 }
 

@@ -76,6 +76,7 @@ public:
     const ToolController& tools() const { return tools_; }
     Camera& camera() { return camera_; }
     const Camera& camera() const { return camera_; }
+    Viewport viewport() const { return shell_.viewport(); }
     const EditorSettings& settings() const { return settings_; }
     const Autosave& autosave() const { return autosave_; }
     const ScriptRunner* script() const { return script_.get(); }
