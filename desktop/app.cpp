@@ -141,33 +141,7 @@ void App::screenshot(const std::string& path, bool ui) { pending_screenshot_ = s
 
 void App::point_at(double x, double y) { scripted_pointer_ = std::make_pair(x, y); }
 
-void App::log_frame_times(int frames) {
-    frames_to_log_ = frames;
-    logged_frames_.clear();
-}
-
-void App::log_frame(const FrameTimes& t) {
-    char line[160];
-    std::snprintf(line, sizeof line, "frame %zu: app %.2f ms, GL calls %.2f ms, swap %.2f ms, whole %.2f ms",
-                  logged_frames_.size() + 1, t.app_ms, t.draw_ms, t.swap_ms, t.app_ms + t.draw_ms + t.swap_ms);
-    log(line);
-    logged_frames_.push_back(t);
-    if (--frames_to_log_ > 0) return;
-    // The medians over the logged frames.
-    const auto median_of = [&](double FrameTimes::*part) {
-        std::vector<double> v;
-        for (const FrameTimes& f : logged_frames_) v.push_back(f.*part);
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-    };
-    std::vector<double> whole;
-    for (const FrameTimes& f : logged_frames_) whole.push_back(f.app_ms + f.draw_ms + f.swap_ms);
-    std::sort(whole.begin(), whole.end());
-    std::snprintf(line, sizeof line, "frames: %zu, median app %.2f ms, GL calls %.2f ms, swap %.2f ms, whole %.2f ms",
-                  logged_frames_.size(), median_of(&FrameTimes::app_ms), median_of(&FrameTimes::draw_ms),
-                  median_of(&FrameTimes::swap_ms), whole[whole.size() / 2]);
-    log(line);
-}
+void App::log_frame_times(int frames) { frame_log_.start(frames); }
 
 void App::save_screenshot(const std::string& path) const {
     const editor::Viewport v = viewport();
@@ -313,7 +287,10 @@ int App::run() {
         }
         const Clock::time_point swapping = Clock::now();
         glfwSwapBuffers(window_);
-        if (frames_to_log_ > 0) log_frame({elapsed_ms(start, drawing), elapsed_ms(drawing, swapping), elapsed_ms(swapping, Clock::now())});
+        if (frame_log_.active())
+            for (const std::string& line : frame_log_.add({elapsed_ms(start, drawing), elapsed_ms(drawing, swapping),
+                                                           elapsed_ms(swapping, Clock::now())}))
+                log(line);
     }
     editor_->clean_exit();
     return editor_->script() && editor_->script()->failed() ? 1 : 0;

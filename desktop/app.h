@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "editor/editor.h"
+#include "editor/frame_log.h"
 #include "editor/session_view.h"
 
 struct GLFWwindow;
@@ -81,16 +82,9 @@ private:
     std::optional<std::pair<std::string, bool>> pending_screenshot_;
 
     // Scripted orbits: the pointer a script placed (viewport pixels), and the
-    // frames still to log with the times of those logged so far.
-    struct FrameTimes {
-        double app_ms = 0.0;   // input, script, deformation steps, panels, overlay (the hover pick)
-        double draw_ms = 0.0;  // issuing the scene's and the panels' GL calls (the driver's vertex work included)
-        double swap_ms = 0.0;  // glfwSwapBuffers: the driver finishing the frame
-    };
-    void log_frame(const FrameTimes& times);
+    // frames' times to log.
     std::optional<std::pair<double, double>> scripted_pointer_;
-    int frames_to_log_ = 0;
-    std::vector<FrameTimes> logged_frames_;
+    editor::FrameLog frame_log_;
 };
 
 }  // namespace vfsd::desktop
