@@ -22,6 +22,7 @@
 #include "deform/quality.h"
 #include "mesh/geometry.h"
 #include "scene/battery.h"
+#include "scene/framing.h"
 #include "scene/prepared_scene.h"
 #if VFSD_HAS_GPU
 #include "gpu/context.h"
@@ -114,7 +115,7 @@ void write_worst(const std::filesystem::path& dir, int rank, const Outcome& o) {
         const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();
         const PreparedScene prepared = prepare_scene(o.battery.scene, o.battery.mesh);
         const gpu::Camera camera = gpu::Camera::framing(
-            gpu::deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion));
+            deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion));
         const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
         gpu::RenderOptions options;
         options.current_time = options.target_time = prepared.scene.target_time;

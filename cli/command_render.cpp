@@ -13,6 +13,7 @@
 
 #include "base/error.h"
 #include "cli/commands.h"
+#include "scene/framing.h"
 #include "scene/prepared_scene.h"
 
 #if VFSD_HAS_GPU
@@ -76,7 +77,7 @@ int run_render(const Args& args) {
     const auto& start = prepared.file.mesh.positions;
 
     // The camera frames the whole deformation, so frames of one scene at any time line up.
-    gpu::Camera camera = gpu::Camera::framing(gpu::deformation_frame_points(start, prepared.region.s, prepared.motion));
+    gpu::Camera camera = gpu::Camera::framing(deformation_frame_points(start, prepared.region.s, prepared.motion));
     const std::string up = args.get("up", "z");
     if (up != "y" && up != "z") throw UsageError("--up must be 'y' or 'z'");
     try {

@@ -8,6 +8,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "editor/camera.h"
+#include "editor/frame_log.h"
 #include "editor/picking.h"
 #include "editor/script.h"
 #include "editor/session.h"
@@ -172,7 +173,7 @@ TEST_CASE("Picking: painting moves no vertex, so the positions' revision stays",
 namespace {
 
 // Records what an orbit asks of the editor.
-class OrbitHost final : public ScriptHost {
+class OrbitHost final : public EditorHost {
 public:
     std::optional<glm::dvec2> pointer;
     int frames_to_log = 0;
@@ -196,7 +197,8 @@ TEST_CASE("Scripts: an orbit turns the camera over its frames, a tool action pic
                                      "{\"action\": \"orbit\", \"degrees\": [90, -10], \"frames\": 4, \"pointer\": [300, 200]}\n",
                                      "orbit"));
     int frames = 0;
-    while (script.run_frame(session, tools, camera, Viewport{640, 480}, host)) ++frames;
+    EditorSettings settings;
+    while (script.run_frame({session, tools, camera, settings, Viewport{640, 480}, host})) ++frames;
     REQUIRE_FALSE(script.failed());
     CHECK(frames == 4);  // four turning frames; the action ends on the fifth
     CHECK(tools.tool == Tool::paint_inner);
@@ -204,4 +206,15 @@ TEST_CASE("Scripts: an orbit turns the camera over its frames, a tool action pic
     CHECK(host.frames_to_log == 4);
     CHECK(camera.yaw - start.yaw == Approx(glm::radians(90.0)));
     CHECK(camera.pitch - start.pitch == Approx(glm::radians(-10.0)));
+}
+
+TEST_CASE("FrameLog: a line per frame, then the medians of each part and of the whole", "[editor][camera]") {
+    FrameLog log;
+    log.start(3);
+    CHECK(log.add({1.0, 2.0, 3.0}).size() == 1);
+    CHECK(log.add({5.0, 0.0, 0.0}) == std::vector<std::string>{"frame 2: app 5.00 ms, GL calls 0.00 ms, swap 0.00 ms, whole 5.00 ms"});
+    const std::vector<std::string> last = log.add({2.0, 2.0, 2.0});
+    REQUIRE(last.size() == 2);
+    CHECK(last[1] == "frames: 3, median app 2.00 ms, GL calls 2.00 ms, swap 2.00 ms, whole 6.00 ms");
+    CHECK_FALSE(log.active());
 }

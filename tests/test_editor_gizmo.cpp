@@ -151,7 +151,7 @@ void pointer_drag(HandleScene& h, GizmoPart part, int steps, Path path) {
     REQUIRE(h.tools.message.empty());
 }
 
-class QuietHost final : public ScriptHost {
+class QuietHost final : public EditorHost {
 public:
     void screenshot(const std::string&, bool) override {}
     void loaded() override {}
@@ -400,7 +400,8 @@ TEST_CASE("Handle gizmo: scripts place a handle and drag its parts", "[editor][g
                                      "{\"action\": \"gizmo\", \"part\": \"centre\", \"by\": [30, -10]}\n"
                                      "{\"action\": \"expect\", \"undo_count\": 3}\n",
                                      "gizmo.jsonl"));
-    while (script.run_frame(session, tools, box.camera, kViewport, host)) {}
+    EditorSettings settings;
+    while (script.run_frame({session, tools, box.camera, settings, kViewport, host})) {}
     INFO(script.error());
     REQUIRE(!script.failed());
     const CurveSpec& c = session.curve().curve;

@@ -13,6 +13,7 @@
 #include "editor/script.h"
 #include "editor/session.h"
 #include "region/selectors.h"
+#include "test_editor_support.h"
 #include "test_fold_support.h"
 #include "test_io_support.h"
 
@@ -21,18 +22,8 @@ using namespace vfsd::editor;
 
 namespace {
 
-void run_to_target(EditorSession& session) {
-    while (session.moving()) session.update(5);
-}
-
-// The deformation `vfsd deform` computes for a scene file (CPU).
-std::vector<Vec3> deform_scene_file(const std::string& path) {
-    const Scene scene = load_scene(path);
-    const PreparedScene prepared = prepare_scene(scene);
-    Deformation deformation = prepared.start_deformation();
-    deformation.advance(scene.target_time);
-    return deformation.positions();
-}
+using test::deform_scene_file;
+using test::run_to_target;
 
 SurfacePoint at_vertex_nearest(const EditorSession& session, Vec3 p) {
     return surface_point_at_vertex(session.triangles(), session.base_positions().size(),

@@ -15,6 +15,7 @@
 #include "gpu/gl_objects.h"
 #include "gpu/gpu_deformation.h"
 #include "gpu/renderer.h"
+#include "scene/framing.h"
 #include "scene/prepared_scene.h"
 #include "test_fold_support.h"
 #include "test_gpu_support.h"
@@ -49,7 +50,7 @@ TEST_CASE("Rendered scene shows s = 0 in blue and s = 1 in red", "[gpu][render]"
     scene.options = gpu_mirrored(scene.options);
     const PreparedScene prepared = prepare_scene(scene);
     const auto& start = prepared.file.mesh.positions;
-    const gpu::Camera camera = gpu::Camera::framing(gpu::deformation_frame_points(start, prepared.region.s, prepared.motion));
+    const gpu::Camera camera = gpu::Camera::framing(deformation_frame_points(start, prepared.region.s, prepared.motion));
     const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
     gpu::GpuDeformation deformation(start, prepared.rings, prepared.region, prepared.motion, scene.options);
     for (double t : {0.0, 1.0}) {
@@ -78,7 +79,7 @@ TEST_CASE("Folded triangles are drawn in magenta when asked for", "[gpu][render]
         flipped_triangle_list(prepared.file.mesh.positions, deformation.positions(), triangles);
     REQUIRE(!folded.empty());
     const gpu::Camera camera =
-        gpu::Camera::framing(gpu::deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion));
+        gpu::Camera::framing(deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion));
     const gpu::Renderer renderer(triangles, prepared.motion);
     const gpu::Texture vertices = gpu::make_vertex_texture(deformation.positions(), prepared.region.s);
     const auto magenta = [](const std::vector<std::uint8_t>& rgba) {

@@ -1,15 +1,16 @@
-// vfsd-web: the browser editor's shell. Like desktop/, a thin layer around the
-// editor core (engine/editor): pointer events from the page go to the same
-// ToolController and Camera, every control to the same EditorSession, and the
-// engine's renderer draws into a WebGL2 canvas. The GPU path runs in that canvas's
+// vfsd-web: the browser editor's shell. Like desktop/, an adapter around the
+// editor (engine/editor/editor.h): pointer events from the page go to the
+// Editor's pointer calls, every control to its command table, and the engine's
+// renderer draws into a WebGL2 canvas. The GPU path runs in that canvas's
 // context when it renders to float textures (EXT_color_buffer_float); otherwise
 // the CPU path runs and the stats say why.
 //
 // The page (web/vfsd-page.js) talks to this file through four C functions:
-// vfsd_command (JSON in, JSON out: every control and the automation API),
+// vfsd_command (JSON in, JSON out: the editor's command table, editor/commands.h,
+// and the page's queries: state, open, exports, projections),
 // vfsd_pointer, vfsd_wheel and vfsd_array (positions or s for the tests). Each
-// frame ends by handing the page the overlay (control points, loops, the brush)
-// to draw on the 2D canvas above the WebGL one.
+// frame ends by handing the page the Editor's overlay (control points, loops, the
+// brush, the gizmo) to draw on the 2D canvas above the WebGL one.
 //
 // The autosave (editor/autosave.h) lives in /autosave, an IDBFS folder the page
 // loads from IndexedDB before the editor starts and writes back after each
@@ -19,32 +20,19 @@
 #include <emscripten/html5.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
-#include <optional>
-#include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "base/error.h"
-#include "editor/autosave.h"
-#include "editor/camera.h"
+#include "editor/editor.h"
 #include "editor/gpu_live_deformation.h"
-#include "editor/handle_gizmo.h"
-#include "editor/picking.h"
-#include "editor/script.h"
-#include "editor/session.h"
+#include "editor/page_api.h"
 #include "editor/session_view.h"
-#include "editor/tools.h"
 #include "gpu/capabilities.h"
 #include "gpu/context.h"
-#include "gpu/gl.h"
-#include "gpu/renderer.h"
-#include "scene/scene.h"
 
 // The page's side (web/vfsd-page.js): start-up options, and one call per frame.
 EM_JS(char*, vfsd_page_options, (), {
@@ -93,8 +81,6 @@ constexpr const char* kFiles = "/files";  // uploaded meshes and scenes, exports
 constexpr const char* kAutosave = "/autosave";  // IDBFS, kept in IndexedDB
 // A changed session is autosaved at most this often.
 constexpr double kAutosaveSeconds = 5.0;
-// Per frame the deformation may take about this long, so the page stays responsive.
-constexpr double kStepBudgetMs = 15.0;
 
 class WebGlContext final : public gpu::Context {
 public:
@@ -106,78 +92,30 @@ private:
     EMSCRIPTEN_WEBGL_CONTEXT_HANDLE handle_;
 };
 
-std::optional<editor::Tool> core_tool(const std::string& name) {
-    for (const auto t : editor::kAllTools)
-        if (name == editor::tool_name(t)) return t;
-    return std::nullopt;
-}
-
-json points_json(const std::vector<Vec3>& points) {
-    json out = json::array();
-    for (const Vec3& p : points) out.push_back({p.x, p.y, p.z});
-    return out;
-}
-
-std::string css_colour(editor::Rgb c) {
-    return "rgb(" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " + std::to_string(c.b) + ")";
-}
-
-// The handle gizmo's shapes in canvas pixels (editor/handle_gizmo.h).
-json gizmo_json(const editor::GizmoShapes& shapes) {
-    json out = {{"axes", json::array()},
-                {"rings", json::array()},
-                {"centre", {shapes.centre.x, shapes.centre.y, shapes.centre_radius}},
-                {"centre_colour", css_colour(shapes.centre_colour)}};
-    for (const editor::GizmoRing& ring : shapes.rings) {
-        json points = json::array();
-        for (const glm::dvec2& p : ring.points) points.push_back({p.x, p.y});
-        out["rings"].push_back({{"points", points}, {"colour", css_colour(ring.colour)}});
-    }
-    for (const editor::GizmoSegment& axis : shapes.axes)
-        out["axes"].push_back({{"from", {axis.from.x, axis.from.y}}, {"to", {axis.to.x, axis.to.y}},
-                               {"colour", css_colour(axis.colour)}});
-    return out;
-}
-
-std::string read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-class App final : public editor::ScriptHost {
+class App final : public editor::Shell {
 public:
     explicit App(const json& options);
 
     void frame();
     json command(const json& c);
     void pointer(int kind, double x, double y, int button, bool shift);
-    void wheel(double delta, double x, double y);
+    void wheel(double delta, double x, double y) { editor_->wheel(-delta / 100.0, x, y); }
     // Positions (0) or s (1) of the current shape as doubles; returns the count.
     std::size_t array(int which);
     const std::vector<double>& array_data() const { return array_; }
 
-    // ScriptHost
-    void screenshot(const std::string&, bool) override { log("script: screenshots are the page's (canvas)"); }
-    void loaded() override;
+    // editor::Shell
+    editor::Viewport viewport() const override;
     void log(const std::string& line) override { std::printf("%s\n", line.c_str()); }
-    void autosave_now() override;
-    void answer_restore(bool restore) override;
+    void screenshot(const std::string&, bool) override { log("script: screenshots are the page's (canvas)"); }
+    void autosaved() override { vfsd_page_autosaved(); }
 
     void context_lost();
     void context_restored();
 
 private:
-    editor::Viewport viewport() const;
     void init_gl();
-    void open(const std::string& path);
-    void load_scene(json scene);
-    void set(const json& c);
-    void action(const std::string& name);
-    json state() const;
-    json autosave_state() const;
-    json overlay() const;
+    editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_}; }
 
     EMSCRIPTEN_WEBGL_CONTEXT_HANDLE gl_ = 0;
     bool lost_ = false;
@@ -187,19 +125,8 @@ private:
     editor::DeformationFactory gpu_;
     std::string gpu_reason_;
 
-    std::unique_ptr<editor::EditorSession> session_;
-    editor::ToolController tools_;
-    editor::Camera camera_;
+    std::unique_ptr<editor::Editor> editor_;
     editor::SessionView view_;
-    std::unique_ptr<editor::ScriptRunner> script_;
-    editor::Autosave autosave_{kAutosave, kAutosaveSeconds};
-    bool force_cpu_ = false;
-    double ms_per_step_ = 0.0;  // wall time per step of the last update(), read-back included
-    int region_gesture_ = 0, curve_gesture_ = 0;  // slider drags open one undo step
-
-    enum class Drag { none, tool, orbit, pan } drag_ = Drag::none;
-    double mouse_x_ = -1.0, mouse_y_ = -1.0;
-    std::string load_error_, status_;
     std::vector<double> array_;
 };
 
@@ -208,33 +135,12 @@ App::App(const json& options) {
     backend_ = options.value("backend", std::string("auto"));
     std::filesystem::create_directories(kFiles);
     init_gl();
-    session_ = std::make_unique<editor::EditorSession>(gpu_, gpu_reason_);
+    editor::EditorOptions editor_options;
+    editor_options.autosave_directory = kAutosave;
+    editor_options.autosave_seconds = kAutosaveSeconds;
+    editor_ = std::make_unique<editor::Editor>(*this, gpu_, gpu_reason_, editor_options);
     log("WebGL2: " + gl_renderer_ + (gpu_ ? " (GPU path)" : " (CPU path: " + gpu_reason_ + ")"));
-    try {
-        session_->open_scene_file(kDefaultScene);
-    } catch (const std::exception& e) {
-        log(std::string("default scene: ") + e.what());
-        session_->open_mesh("builtin:box");
-    }
-    tools_.adapt_to(*session_);
-    loaded();
-    autosave_.mark_saved(*session_);
-    autosave_.offer_restore(*session_);
-}
-
-void App::autosave_now() {
-    if (autosave_.offer()) throw InputError("answer the offer to restore the autosave first");
-    if (!autosave_.save(*session_)) throw IoError(session_->warnings().back());
-    vfsd_page_autosaved();
-}
-
-void App::answer_restore(bool restore) {
-    if (autosave_.answer(*session_, restore)) {
-        tools_.adapt_to(*session_);
-        loaded();
-    }
-    if (!restore) vfsd_page_autosaved();  // the cleared folder, to IndexedDB
-    status_ = !restore ? "discarded the autosave" : autosave_.problem().empty() ? "restored the autosave" : "";
+    editor_->open_default(kDefaultScene, true);
 }
 
 void App::init_gl() {
@@ -275,350 +181,47 @@ editor::Viewport App::viewport() const {
     return {std::max(w, 1), std::max(h, 1)};
 }
 
-void App::loaded() {
-    camera_ = editor::Camera();
-    camera_.frame(gpu::deformation_frame_points(session_->base_positions(), session_->s(), session_->motion()),
-                  viewport().aspect());
-}
-
-void App::open(const std::string& path) {
-    // A failed load keeps the current document and says why.
-    try {
-        session_->open(path);
-        tools_.adapt_to(*session_);
-        loaded();
-        load_error_.clear();
-        status_ = "opened " + std::filesystem::path(path).filename().string();
-    } catch (const std::exception& e) {
-        load_error_ = std::filesystem::path(path).filename().string() + ": " + e.what();
-        log("open failed: " + load_error_);
-    }
-}
-
-void App::load_scene(json scene) {
-    // Without "mesh" the scene applies to the current mesh.
-    if (!scene.is_object()) throw InputError("scene: expected a JSON object");
-    if (!scene.contains("mesh")) scene["mesh"] = session_->mesh_name();
-    session_->open_scene(parse_scene(scene, kFiles, "scene"));
-    tools_.adapt_to(*session_);
-    loaded();
-    load_error_.clear();
-}
-
+// kind: 0 press, 1 move, 2 release, 3 leave; another button or Shift pans.
 void App::pointer(int kind, double x, double y, int button, bool shift) {
-    const editor::Viewport v = viewport();
-    const double dx = x - mouse_x_, dy = y - mouse_y_;
-    mouse_x_ = x, mouse_y_ = y;
-    if (kind == 0) {  // press
-        if (drag_ != Drag::none) return;
-        if (button != 0 || shift) drag_ = Drag::pan;
-        else if (tools_.press(*session_, camera_, v, x, y)) drag_ = Drag::tool;
-        else drag_ = Drag::orbit;
-    } else if (kind == 1) {  // move
-        switch (drag_) {
-            case Drag::tool: tools_.drag(*session_, camera_, v, x, y); break;
-            case Drag::orbit: camera_.orbit(dx, dy); break;
-            case Drag::pan: camera_.pan(dx, dy, v); break;
-            case Drag::none: break;
-        }
-    } else if (kind == 2) {  // release
-        if (drag_ == Drag::tool) tools_.release(*session_);
-        drag_ = Drag::none;
-    } else {  // left the canvas
-        mouse_x_ = mouse_y_ = -1.0;
-    }
+    if (kind == 0) editor_->press(x, y, button != 0 || shift);
+    else if (kind == 1) editor_->move(x, y);
+    else if (kind == 2) editor_->release();
+    else editor_->leave();
 }
 
-void App::wheel(double delta, double x, double y) {
-    camera_.zoom(std::pow(0.85, -delta / 100.0), x, y, viewport());
-}
-
-void App::set(const json& c) {
-    if (c.contains("tool")) {
-        const std::string name = c["tool"];
-        const auto t = core_tool(name);
-        if (!t) throw InputError("tool: unknown '" + name + "'");
-        tools_.tool = *t;
-    }
-    if (c.contains("radius")) tools_.brush.radius = c["radius"].get<double>();
-    if (c.contains("s_target")) tools_.brush.s_target = c["s_target"].get<double>();
-    if (c.contains("strength")) tools_.brush.strength = c["strength"].get<double>();
-    if (c.contains("axis")) tools_.axis = c["axis"].get<int>();
-    if (c.contains("wireframe")) view_.wireframe = c["wireframe"].get<bool>();
-    if (c.contains("force_cpu")) session_->set_force_cpu(force_cpu_ = c["force_cpu"].get<bool>());
-    if (c.contains("target_time")) session_->set_target_time(c["target_time"].get<double>());
-    if (c.contains("g_min") || c.contains("g_max")) {
-        const double d = session_->diagonal();
-        const double lo = c.value("g_min", tools_.g_min), hi = c.value("g_max", tools_.g_max);
-        tools_.g_min = std::min(lo, hi - 1e-4 * d);
-        tools_.g_max = std::max(hi, lo + 1e-4 * d);
-        const bool gesture = c.value("gesture", false) && !region_gesture_++;
-        if (gesture) session_->begin_region_gesture();
-        session_->set_geodesic_range(tools_.g_min, tools_.g_max);
-    }
-    if (c.contains("inner_motion") || c.contains("alpha")) {
-        editor::CurveSettings curve = session_->curve();
-        if (c.contains("inner_motion"))
-            curve.inner_motion = c["inner_motion"] == "translation" ? InnerMotionMode::Translation : InnerMotionMode::Rotation;
-        if (c.contains("alpha")) {
-            curve.twist_degrees[0] = c["alpha"][0].get<double>();
-            curve.twist_degrees[1] = c["alpha"][1].get<double>();
-        }
-        const bool gesture = c.value("gesture", false) && !curve_gesture_++;
-        if (gesture) session_->begin_curve_gesture();
-        session_->set_curve(curve);
-    }
-}
-
-void App::action(const std::string& name) {
-    editor::EditorSession& s = *session_;
-    if (name == "play") s.play();
-    else if (name == "pause") s.pause();
-    else if (name == "play-pause") s.moving() ? s.pause() : s.play();
-    else if (name == "reset") s.reset();
-    else if (name == "apply") s.apply();
-    else if (name == "undo") s.undo();
-    else if (name == "redo") s.redo();
-    else if (name == "add-segment") s.add_segment();
-    else if (name == "remove-segment") s.remove_segment();
-    else if (name == "close-loop") tools_.close_loop();
-    else if (name == "clear-loops") tools_.clear_loops();
-    else if (name == "end-gesture") {
-        // The end of a slider drag: its changes become one undo step.
-        if (region_gesture_) s.end_region_gesture("geodesic range");
-        if (curve_gesture_) s.end_curve_gesture("curve settings");
-        region_gesture_ = curve_gesture_ = 0;
-    } else if (name == "frame") loaded();
-    else if (name.rfind("view:", 0) == 0) {
-        const std::string v = name.substr(5);
-        const std::pair<const char*, editor::StandardView> views[] = {
-            {"front", editor::StandardView::front}, {"back", editor::StandardView::back},
-            {"left", editor::StandardView::left},   {"right", editor::StandardView::right},
-            {"top", editor::StandardView::top},     {"bottom", editor::StandardView::bottom},
-            {"iso", editor::StandardView::iso}};
-        for (const auto& [n, view] : views)
-            if (v == n) camera_.set_view(view);
-    } else throw InputError("action: unknown '" + name + "'");
-}
-
-json App::state() const {
-    const editor::EditorSession& s = *session_;
-    const editor::SessionStats& st = s.stats();
-    json stats = {{"vertices", st.vertices},
-                  {"triangles", st.triangles},
-                  {"time", s.time()},
-                  {"backend", st.backend},
-                  {"ms_per_step", ms_per_step_},
-                  {"volume_error_percent", st.volume_error_percent},
-                  {"flipped_triangles", st.flipped_triangles},
-                  {"first_fold_time", st.first_fold_time}};
-    const editor::CurveSettings& c = s.curve();
-    return {{"stats", stats},
-            {"backend_reason", st.backend_reason},
-            {"renderer", gl_renderer_},
-            {"target_time", s.target_time()},
-            {"moving", s.moving()},
-            {"tool", editor::tool_name(tools_.tool)},
-            {"radius", tools_.brush.radius},
-            {"s_target", tools_.brush.s_target},
-            {"strength", tools_.brush.strength},
-            {"g_min", tools_.g_min},
-            {"g_max", tools_.g_max},
-            {"axis", tools_.axis},
-            {"diagonal", s.diagonal()},
-            {"inner_motion", c.inner_motion == InnerMotionMode::Translation ? "translation" : "rotation"},
-            {"alpha", {c.twist_degrees[0], c.twist_degrees[1]}},
-            {"is_handle", c.curve.is_handle},
-            {"control_points", points_json(s.control_points())},
-            {"undo", s.history().undo_count()},
-            {"redo", s.history().redo_count()},
-            {"mesh", s.mesh_name()},
-            {"warnings", s.warnings()},
-            {"message", tools_.message},
-            {"load_error", load_error_},
-            {"status", status_},
-            {"loops", {tools_.loops().size(), tools_.loop_in_progress().size()}},
-            {"context_lost", lost_},
-            {"force_cpu", force_cpu_},
-            {"autosave", autosave_state()},
-            {"script", script_ ? json{{"done", script_->done()}, {"error", script_->error()}} : json()}};
-}
-
-json App::autosave_state() const {
-    json offer;
-    if (const auto& o = autosave_.offer())
-        offer = {{"written", o->written_text()}, {"mesh", std::filesystem::path(o->mesh).filename().string()}};
-    return {{"offer", offer}, {"behind", autosave_.behind(*session_)}};
-}
-
-json App::overlay() const {
-    // What the page draws over the canvas, in canvas pixels.
-    const editor::Viewport v = viewport();
-    const auto px = [&](const Vec3& p) {
-        const glm::dvec3 s = camera_.project(p, v);
-        return s.z <= 1.0 ? json::array({s.x, s.y}) : json();
-    };
-    json out = {{"polygon", json::array()}, {"points", json::array()}, {"loops", json::array()},
-                {"current", json::array()}, {"brush", nullptr}, {"gizmo", nullptr}};
-    const std::vector<Vec3> points = session_->control_points();
-    const bool handle = session_->curve().curve.is_handle;
-    for (std::size_t i = 0; i + 1 < points.size(); ++i)
-        if (handle || i % 3 != 1) out["polygon"].push_back({px(points[i]), px(points[i + 1])});
-    const bool navigating = tools_.tool == editor::Tool::navigate && mouse_x_ >= 0.0;
-    const auto hovered = navigating ? tools_.hovered_point(*session_, camera_, v, mouse_x_, mouse_y_) : std::nullopt;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        const bool hot = hovered == i || tools_.dragged_point() == i;
-        out["points"].push_back({{"at", px(points[i])}, {"knot", handle || i % 3 == 0}, {"hot", hot}});
-    }
-    if (const auto gizmo = tools_.gizmo(*session_, camera_, v)) {
-        const editor::GizmoPart hot = mouse_x_ >= 0.0 || tools_.active()
-                                          ? tools_.highlighted_gizmo_part(*session_, camera_, v, mouse_x_, mouse_y_)
-                                          : editor::GizmoPart::none;
-        if (gizmo->visible()) out["gizmo"] = gizmo_json(gizmo->shapes(hot));
-    }
-    const auto& p = session_->positions();
-    const auto& t = session_->triangles();
-    for (const SurfaceLoop& loop : tools_.loops()) {
-        json l = json::array();
-        for (const SurfacePoint& q : loop) l.push_back(px(surface_position(p, t, q)));
-        out["loops"].push_back(l);
-    }
-    for (const SurfacePoint& q : tools_.loop_in_progress()) out["current"].push_back(px(surface_position(p, t, q)));
-    const bool brush = tools_.tool == editor::Tool::paint_inner || tools_.tool == editor::Tool::paint_outer ||
-                       tools_.tool == editor::Tool::erase || tools_.tool == editor::Tool::paint_s;
-    if (brush && mouse_x_ >= 0.0) {
-        const auto hit = session_->pick_surface(camera_.ray(mouse_x_, mouse_y_, v));
-        if (hit) {
-            const glm::dvec3 c = camera_.project(hit->position, v);
-            const glm::dvec3 r = camera_.project(hit->position + tools_.brush.radius * camera_.right(), v);
-            out["brush"] = {c.x, c.y, std::hypot(r.x - c.x, r.y - c.y)};
-        }
-    }
-    return out;
-}
-
+// The page's commands (editor/page_api.h), and the context-loss handlers' test hook.
 json App::command(const json& c) {
-    const std::string cmd = c.value("cmd", std::string());
-    if (cmd == "state") return state();
-    if (cmd == "set") {
-        set(c);
-        return state();
-    }
-    if (cmd == "action") {
-        action(c.value("name", std::string()));
-        return state();
-    }
-    if (cmd == "open") {
-        open(c.value("path", std::string()));
-        return {{"load_error", load_error_}};
-    }
-    if (cmd == "load-scene") {
-        load_scene(c.value("scene", json()));
-        return state();
-    }
-    if (cmd == "export-mesh") {
-        const std::string format = c.value("format", std::string("ply"));
-        if (format != "obj" && format != "ply" && format != "glb" && format != "off")
-            throw InputError("export: format must be obj, ply, glb or off");
-        const std::string stem = std::filesystem::path(session_->mesh_name()).stem().string();
-        const std::string name = (stem.rfind("builtin:", 0) == 0 ? stem.substr(8) : stem) + "-deformed." + format;
-        const std::string path = std::string(kFiles) + "/" + name;
-        session_->export_mesh(path);
-        return {{"path", path}, {"name", name}};
-    }
-    if (cmd == "export-scene") {
-        // Written beside the uploaded meshes so the mesh path is the file's name;
-        // after an apply the baked mesh comes along (NAME.mesh.ply).
-        const std::string path = std::string(kFiles) + "/vfsd-scene.json";
-        session_->save_scene(path);
-        json out = {{"scene", json::parse(read_file(path))}, {"path", path}, {"files", json::array()}};
-        const std::string mesh = out["scene"].value("mesh", std::string());
-        if (mesh == "vfsd-scene.mesh.ply") out["files"].push_back(std::string(kFiles) + "/" + mesh);
-        return out;
-    }
-    if (cmd == "project") {
-        // Canvas pixels of points (tests aim the pointer with them), and the eye.
-        json out = {{"pixels", json::array()}, {"eye", points_json({camera_.eye()})[0]}};
-        for (const json& p : c.at("points")) {
-            const glm::dvec3 q = camera_.project(Vec3(p[0].get<double>(), p[1].get<double>(), p[2].get<double>()), viewport());
-            out["pixels"].push_back({q.x, q.y});
-        }
-        return out;
-    }
-    if (cmd == "gizmo") {
-        // Canvas pixels of a point on each part of the handle gizmo (tests aim the
-        // pointer with them); null outside handle mode.
-        const auto gizmo = tools_.gizmo(*session_, camera_, viewport());
-        if (!gizmo) return {{"parts", nullptr}};
-        json parts = json::object();
-        for (const editor::GizmoPart part : editor::kGizmoParts)
-            if (const auto p = gizmo->grab_point(part)) parts[editor::gizmo_part_name(part)] = {p->x, p->y};
-        return {{"parts", parts}, {"centre", {gizmo->centre().x, gizmo->centre().y}}};
-    }
-    if (cmd == "checksum") {
-        // A cheap fingerprint of the current positions.
-        double sum = 0.0;
-        const auto& p = session_->positions();
-        for (std::size_t i = 0; i < p.size(); ++i) sum += double(1 + i % 7) * (p[i].x + 2.0 * p[i].y + 3.0 * p[i].z);
-        return {{"checksum", sum}};
-    }
-    if (cmd == "script") {
-        script_ = std::make_unique<editor::ScriptRunner>(editor::parse_script(c.at("actions").dump(), "script"));
-        return state();
-    }
-    if (cmd == "autosave") {
-        // {"answer": "restore" | "discard"} answers the offer; without it, saves now.
-        const std::string answer = c.value("answer", std::string());
-        if (answer.empty()) autosave_now();
-        else if (answer == "restore" || answer == "discard") answer_restore(answer == "restore");
-        else throw InputError("autosave: answer must be restore or discard");
-        return state();
-    }
-    if (cmd == "context") {
-        // Test hook: what the page's context-loss handlers call.
-        c.value("lost", false) ? context_lost() : context_restored();
-        return state();
-    }
-    throw InputError("command: unknown '" + cmd + "'");
+    if (c.value("cmd", std::string()) != "context") return editor::page_command(*editor_, c, page());
+    c.value("lost", false) ? context_lost() : context_restored();
+    return editor::page_state(*editor_, page());
 }
 
 std::size_t App::array(int which) {
+    const editor::EditorSession& s = editor_->session();
     array_.clear();
-    if (which == 0) {
-        for (const Vec3& p : session_->positions()) array_.insert(array_.end(), {p.x, p.y, p.z});
-    } else {
-        array_ = session_->s();
-    }
+    if (which == 1) array_ = s.s();
+    else
+        for (const Vec3& p : s.positions()) array_.insert(array_.end(), {p.x, p.y, p.z});
     return array_.size();
 }
 
 void App::frame() {
     if (lost_) return;
     try {
-        if (script_ && !script_->done()) {
-            script_->run_frame(*session_, tools_, camera_, viewport(), *this);
-            if (script_->done()) log(script_->failed() ? "script failed: " + script_->error() : "script: done");
-        }
-        // Integrate toward the target within the frame's budget. The page times
-        // update() itself: WebGL runs asynchronously, and update() ends with the
-        // stats' read-back, so its wall time includes the GPU's work.
-        const int budget = std::clamp(int(kStepBudgetMs / std::max(ms_per_step_, 0.05)), 1, 250);
-        const double start = emscripten_get_now();
-        const int taken = session_->update(budget);
-        if (taken > 0) ms_per_step_ = (emscripten_get_now() - start) / taken;
-        if (autosave_.maybe_save(*session_)) vfsd_page_autosaved();
-        view_.draw(*session_, camera_, viewport());
+        editor_->advance();
+        view_.wireframe = editor_->settings().wireframe;
+        view_.draw(editor_->session(), editor_->camera(), viewport());
     } catch (const std::exception& e) {
-        status_ = e.what();
+        editor_->set_status(e.what());
         log(std::string("frame: ") + e.what());
     }
-    vfsd_page_frame(overlay().dump().c_str());
+    vfsd_page_frame(editor::overlay_json(editor_->overlay(editor_->pointer())).dump().c_str());
 }
 
 void App::context_lost() {
     // Nothing on the GPU survives; the mesh, region and curve live on the CPU.
     lost_ = true;
-    drag_ = Drag::none;
+    editor_->release();
     vfsd_page_context(1);
 }
 
@@ -626,8 +229,7 @@ void App::context_restored() {
     // New GL objects for everything; the deformation restarts from the CPU state
     // and integrates back to the target time.
     view_.reset();
-    session_->set_force_cpu(!force_cpu_);  // each switch drops the deformation
-    session_->set_force_cpu(force_cpu_);
+    editor_->restart_deformation();
     init_gl();
     lost_ = false;
     vfsd_page_context(0);

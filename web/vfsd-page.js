@@ -213,6 +213,7 @@
     if (document.activeElement !== $('axis')) $('axis').value = String(s.axis);
     if (document.activeElement !== $('inner-motion')) $('inner-motion').value = s.inner_motion;
     $('force-cpu').checked = s.force_cpu;
+    $('wireframe').checked = s.wireframe;
     $('time-value').textContent = fmt(st.time);
     $('time-progress').value = st.time;
     $('play').firstChild.textContent = s.moving ? 'Pause ' : 'Play ';
@@ -249,38 +250,42 @@
 
   // ---- controls ------------------------------------------------------------------
 
-  $('restore-autosave').addEventListener('click', () => run({ cmd: 'autosave', answer: 'restore' }));
-  $('discard-autosave').addEventListener('click', () => run({ cmd: 'autosave', answer: 'discard' }));
+  // Every control runs a command of the editor's table (docs/commands.md).
+  $('restore-autosave').addEventListener('click', () => run({ cmd: 'restore-autosave', answer: 'restore' }));
+  $('discard-autosave').addEventListener('click', () => run({ cmd: 'restore-autosave', answer: 'discard' }));
 
   for (const r of document.querySelectorAll('input[name=tool]'))
-    r.addEventListener('change', () => run({ cmd: 'set', tool: r.value }));
+    r.addEventListener('change', () => run({ cmd: 'tool', name: r.value }));
 
   // Sliders: every move sets the value; a drag of g_min/g_max or α is one undo step.
   function slider(id, make, gesture) {
     const el = $(id);
-    el.addEventListener('input', () => run(Object.assign({ cmd: 'set', gesture: !!gesture }, make(Number(el.value)))));
-    if (gesture) el.addEventListener('change', () => run({ cmd: 'action', name: 'end-gesture' }));
+    el.addEventListener('input', () => run(Object.assign(gesture ? { gesture: true } : {}, make(Number(el.value)))));
+    if (gesture) el.addEventListener('change', () => run({ cmd: 'end-gesture' }));
   }
-  slider('radius', (v) => ({ radius: v }));
-  slider('s-target', (v) => ({ s_target: v }));
-  slider('strength', (v) => ({ strength: v }));
-  slider('g-min', (v) => ({ g_min: v }), true);
-  slider('g-max', (v) => ({ g_max: v }), true);
-  slider('alpha0', (v) => ({ alpha: [v, Number($('alpha1').value)] }), true);
-  slider('alpha1', (v) => ({ alpha: [Number($('alpha0').value), v] }), true);
-  slider('target-time', (v) => ({ target_time: v }));
-  $('axis').addEventListener('change', () => run({ cmd: 'set', axis: Number($('axis').value) }));
-  $('inner-motion').addEventListener('change', () => run({ cmd: 'set', inner_motion: $('inner-motion').value }));
-  $('wireframe').addEventListener('change', () => run({ cmd: 'set', wireframe: $('wireframe').checked }));
-  $('force-cpu').addEventListener('change', () => run({ cmd: 'set', force_cpu: $('force-cpu').checked }));
+  slider('radius', (v) => ({ cmd: 'brush', radius: v }));
+  slider('s-target', (v) => ({ cmd: 'brush', target: v }));
+  slider('strength', (v) => ({ cmd: 'brush', strength: v }));
+  slider('g-min', (v) => ({ cmd: 'g-range', g_min: v }), true);
+  slider('g-max', (v) => ({ cmd: 'g-range', g_max: v }), true);
+  slider('alpha0', (v) => ({ cmd: 'twist', alpha: [v, Number($('alpha1').value)] }), true);
+  slider('alpha1', (v) => ({ cmd: 'twist', alpha: [Number($('alpha0').value), v] }), true);
+  slider('target-time', (v) => ({ cmd: 'set-time', t: v }));
+  const axisNames = ['free', 'x', 'y', 'z'];
+  $('axis').addEventListener('change', () => run({ cmd: 'axis', name: axisNames[Number($('axis').value) + 1] }));
+  $('inner-motion').addEventListener('change', () => run({ cmd: 'inner-motion', mode: $('inner-motion').value }));
+  $('wireframe').addEventListener('change', () => run({ cmd: 'wireframe', on: $('wireframe').checked }));
+  $('force-cpu').addEventListener('change', () => run({ cmd: 'force-cpu', on: $('force-cpu').checked }));
 
-  const actions = {
-    'play': 'play-pause', 'reset': 'reset', 'apply': 'apply', 'undo': 'undo', 'redo': 'redo',
-    'add-segment': 'add-segment', 'remove-segment': 'remove-segment', 'close-loop': 'close-loop',
-    'clear-loops': 'clear-loops', 'view-frame': 'frame', 'view-front': 'view:front', 'view-right': 'view:right',
-    'view-top': 'view:top', 'view-iso': 'view:iso',
+  const buttons = {
+    'play': { cmd: 'play-pause' }, 'reset': { cmd: 'reset' }, 'apply': { cmd: 'apply' }, 'undo': { cmd: 'undo' },
+    'redo': { cmd: 'redo' }, 'add-segment': { cmd: 'add-segment' }, 'remove-segment': { cmd: 'remove-segment' },
+    'close-loop': { cmd: 'close-loop' }, 'clear-loops': { cmd: 'clear-loops' },
+    'view-frame': { cmd: 'view', name: 'frame' }, 'view-front': { cmd: 'view', name: 'front' },
+    'view-right': { cmd: 'view', name: 'right' }, 'view-top': { cmd: 'view', name: 'top' },
+    'view-iso': { cmd: 'view', name: 'iso' },
   };
-  for (const [id, name] of Object.entries(actions)) $(id).addEventListener('click', () => run({ cmd: 'action', name }));
+  for (const [id, c] of Object.entries(buttons)) $(id).addEventListener('click', () => run(c));
 
   // ---- files ---------------------------------------------------------------------
 
@@ -406,38 +411,16 @@
 
   // ---- keyboard: the desktop editor's shortcuts -----------------------------------
 
-  const toolKeys = { n: 'navigate', g: 'geodesic', i: 'paint inner', o: 'paint outer', e: 'erase', s: 'paint s',
-                     l: 'loops', h: 'handle' };
-  const viewKeys = { '1': 'view:front', '3': 'view:right', '7': 'view:top', '0': 'view:iso' };
-  const ctrlViewKeys = { '1': 'view:back', '3': 'view:left', '7': 'view:bottom' };
+  // The editor's key table decides what a key does (docs/commands.md); the page only
+  // keeps keys away from text fields, and Space and Enter away from its buttons.
   document.addEventListener('keydown', (e) => {
     if (!started) return;
     const t = e.target;
     if (t.matches && t.matches('input[type=text], input[type=number], textarea, select')) return;
     const onControl = t.matches && t.matches('button, input, select');
-    const key = e.key.toLowerCase();
-    const ctrl = e.ctrlKey || e.metaKey;
-    let handled = true;
-    if (ctrl && key === 'z') run({ cmd: 'action', name: e.shiftKey ? 'redo' : 'undo' });
-    else if (ctrl && key === 'y') run({ cmd: 'action', name: 'redo' });
-    else if (ctrl && ctrlViewKeys[key]) run({ cmd: 'action', name: ctrlViewKeys[key] });
-    else if (ctrl || e.altKey) handled = false;
-    else if (toolKeys[key]) run({ cmd: 'set', tool: toolKeys[key] });
-    else if (viewKeys[key]) run({ cmd: 'action', name: viewKeys[key] });
-    else if (key === 'f') run({ cmd: 'action', name: 'frame' });
-    else if (key === ' ' && !onControl) run({ cmd: 'action', name: 'play-pause' });
-    else if (key === 'enter' && !onControl) run({ cmd: 'action', name: 'close-loop' });
-    else if (key === 'r') run({ cmd: 'action', name: 'reset' });
-    else if (key === 'a') run({ cmd: 'action', name: 'apply' });
-    else if (key === 'w') { $('wireframe').checked = !$('wireframe').checked; run({ cmd: 'set', wireframe: $('wireframe').checked }); }
-    else if (key === '[' || key === ']') {
-      const s = lastState;
-      run({ cmd: 'set', radius: s.radius * (key === '[' ? 1 / 1.2 : 1.2) });
-    } else if (key === 'x' || key === 'y' || key === 'z') {
-      const axis = { x: 0, y: 1, z: 2 }[key];
-      run({ cmd: 'set', axis: lastState.axis === axis ? -1 : axis });
-    } else handled = false;
-    if (handled) e.preventDefault();
+    if (e.altKey || (onControl && (e.key === ' ' || e.key === 'Enter'))) return;
+    const r = run({ cmd: 'key', key: e.key, ctrl: e.ctrlKey || e.metaKey, shift: e.shiftKey });
+    if (r && r.handled) e.preventDefault();
   });
 
   // ---- the automation API (docs/web.md) -------------------------------------------
@@ -479,7 +462,7 @@
     },
     runTo: async (t) => {
       await ready;
-      command({ cmd: 'set', target_time: t });
+      command({ cmd: 'set-time', t });
       const target = command({ cmd: 'state' }).target_time;
       await waitFor((s) => {
         if (s.target_time !== target) throw new Error('vfsd.runTo: the target time changed');
@@ -500,7 +483,7 @@
     // Page coordinates of a point on each part of the handle gizmo ('centre', 'x',
     // 'y', 'z', 'ring-x', 'ring-y', 'ring-z') and of its centre; null without a handle.
     gizmo: () => {
-      const r = command({ cmd: 'gizmo' });
+      const r = command({ cmd: 'gizmo-parts' });
       if (!r.parts) return null;
       const parts = {};
       for (const [name, p] of Object.entries(r.parts)) parts[name] = toPage(p);

@@ -20,6 +20,7 @@
 #include "editor/picking.h"
 #include "io/mesh_file.h"
 #include "region/boundary_cut.h"
+#include "scene/scene_package.h"
 
 namespace vfsd::editor {
 
@@ -34,12 +35,6 @@ struct SessionStats {
 };
 
 enum class BrushTool { paint_inner, paint_outer, erase, paint_s };
-
-// How save_scene refers to an input mesh file (not builtin:, not applied): by a
-// path relative to the scene, or by a copy of the file beside the scene
-// (NAME.input.EXT), so that the scene's folder holds all it needs (the autosave).
-// A .gltf, whose buffers may be files beside it, is always referenced.
-enum class InputMesh { referenced, copied };
 
 struct BrushSettings {
     BrushTool tool = BrushTool::paint_inner;
@@ -63,10 +58,10 @@ public:
     // .json opens a scene, anything else a mesh.
     void open(const std::string& path);
 
-    // The session as a scene. save_scene writes it (the base mesh next to it as
-    // NAME.mesh.ply after an apply), with target_time = the current target. A
-    // failed save throws IoError and leaves the session and any existing file as
-    // they were.
+    // The session as a scene. save_scene writes it with what it needs
+    // (scene/scene_package.h: the base mesh next to it as NAME.mesh.ply after an
+    // apply), with target_time = the current target. A failed save throws IoError
+    // and leaves the session and any existing file as they were.
     Scene current_scene() const;
     void save_scene(const std::string& path, InputMesh input = InputMesh::referenced) const;
     // The mesh at the current time in the input file's layout (.obj .ply .glb .off).

@@ -36,12 +36,6 @@ struct Camera {
     void matrices(double aspect, float view[16], float projection[16]) const;
 };
 
-// Points a camera should frame for a whole deformation without reading positions
-// back: the undeformed mesh, plus a sphere around c(t) for t along the curve as
-// large as the inner region (s = 0) is around c(0).
-std::vector<Vec3> deformation_frame_points(const std::vector<Vec3>& positions, const std::vector<double>& s,
-                                          const InnerMotion& motion);
-
 struct RenderOptions {
     double current_time = 0.0;  // white sphere at c(current_time)
     double target_time = 1.0;   // dark sphere at c(target_time)

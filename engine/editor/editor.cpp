@@ -1,0 +1,227 @@
+#include "editor/editor.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "base/error.h"
+#include "scene/framing.h"
+
+namespace vfsd::editor {
+namespace {
+
+bool is_brush(Tool tool) {
+    return tool == Tool::paint_inner || tool == Tool::paint_outer || tool == Tool::erase || tool == Tool::paint_s;
+}
+
+std::string file_name(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+
+}  // namespace
+
+Editor::Editor(Shell& shell, DeformationFactory gpu, const std::string& gpu_reason, const EditorOptions& options)
+    : shell_(shell),
+      options_(options),
+      session_(std::make_unique<EditorSession>(std::move(gpu), gpu_reason)),
+      autosave_(options.autosave_directory, options.autosave_seconds) {
+    settings_.force_cpu = options.force_cpu;
+}
+
+CommandContext Editor::context() { return {*session_, tools_, camera_, settings_, shell_.viewport(), *this}; }
+
+// ---- documents ----------------------------------------------------------------------
+
+bool Editor::open(const std::string& path) {
+    // A failed load keeps the current document and says why.
+    try {
+        session_->open(path);
+        tools_.adapt_to(*session_);
+        loaded();
+        load_error_.clear();
+        status_ = "opened " + file_name(path);
+        return true;
+    } catch (const std::exception& e) {
+        load_error_ = file_name(path) + ": " + e.what();
+        log("open failed: " + load_error_);
+        return false;
+    }
+}
+
+void Editor::open_default(const std::string& scene_path, bool offer_autosave) {
+    if (session_->triangles().empty()) {
+        try {
+            session_->open_scene_file(scene_path);
+        } catch (const std::exception& e) {
+            log(std::string("default scene: ") + e.what());
+            session_->open_mesh("builtin:box");
+        }
+        tools_.adapt_to(*session_);
+        loaded();
+    }
+    autosave_.mark_saved(*session_);
+    if (!offer_autosave) return;
+    autosave_.offer_restore(*session_);
+    if (const auto& offer = autosave_.offer())
+        log("autosave: " + offer->mesh + " from " + offer->written_text() + " in " + autosave_.directory());
+    else if (!autosave_.problem().empty())
+        log(autosave_.problem());
+}
+
+void Editor::open_scene(const Scene& scene) {
+    session_->open_scene(scene);
+    tools_.adapt_to(*session_);
+    loaded();
+    load_error_.clear();
+}
+
+void Editor::loaded() {
+    // Frame the mesh and the whole curve, as `vfsd render` does.
+    camera_ = Camera();
+    camera_.frame(deformation_frame_points(session_->base_positions(), session_->s(), session_->motion()),
+                  shell_.viewport().aspect());
+}
+
+// ---- commands and scripts -------------------------------------------------------------
+
+void Editor::command(const std::string& name, const nlohmann::json& args) {
+    CommandContext c = context();
+    run_command(name, args, c);
+}
+
+bool Editor::key(const std::string& key, bool ctrl, bool shift) {
+    CommandContext c = context();
+    return run_key(key, ctrl, shift, c);
+}
+
+void Editor::run_script(std::vector<ScriptAction> actions) { script_ = std::make_unique<ScriptRunner>(std::move(actions)); }
+
+// ---- the autosave -----------------------------------------------------------------------
+
+void Editor::autosave_now() {
+    if (autosave_.offer()) throw InputError("answer the offer to restore the autosave first");
+    if (!autosave_.save(*session_)) throw IoError(session_->warnings().back());
+    shell_.autosaved();
+}
+
+void Editor::answer_restore(bool restore) {
+    if (autosave_.answer(*session_, restore)) {
+        tools_.adapt_to(*session_);
+        loaded();
+    }
+    if (!restore) shell_.autosaved();  // the cleared folder
+    status_ = !restore ? "discarded the autosave" : autosave_.problem().empty() ? "restored the autosave" : "";
+    if (!autosave_.problem().empty()) log(autosave_.problem());
+}
+
+void Editor::clean_exit() {
+    if (!autosave_.offer()) autosave_.clear();
+}
+
+// ---- the pointer --------------------------------------------------------------------------
+
+void Editor::press(double x, double y, bool pan) {
+    if (drag_ != Drag::none) return;
+    last_ = {x, y};
+    pointer_ = last_;
+    if (pan) drag_ = Drag::pan;
+    else if (tools_.press(*session_, camera_, shell_.viewport(), x, y)) drag_ = Drag::tool;
+    else drag_ = Drag::orbit;
+}
+
+void Editor::move(double x, double y) {
+    const glm::dvec2 d = glm::dvec2(x, y) - last_;
+    last_ = {x, y};
+    pointer_ = last_;
+    switch (drag_) {
+        case Drag::tool: tools_.drag(*session_, camera_, shell_.viewport(), x, y); break;
+        case Drag::orbit: camera_.orbit(d.x, d.y); break;
+        case Drag::pan: camera_.pan(d.x, d.y, shell_.viewport()); break;
+        case Drag::none: break;
+    }
+}
+
+void Editor::release() {
+    if (drag_ == Drag::tool) tools_.release(*session_);
+    drag_ = Drag::none;
+}
+
+void Editor::leave() { pointer_.reset(); }
+
+void Editor::wheel(double notches, double x, double y) {
+    camera_.zoom(std::pow(0.85, notches), x, y, shell_.viewport());
+}
+
+// ---- each frame ------------------------------------------------------------------------------
+
+void Editor::advance() {
+    if (script_ && !script_->done()) {
+        script_->run_frame(context());
+        if (script_->done()) log(script_->failed() ? "script failed: " + script_->error() : "script: done");
+    }
+    // Integrate toward the target within the frame's budget, timed as a whole:
+    // update() ends with the stats' read-back, so the GPU's work is included.
+    using Clock = std::chrono::steady_clock;
+    const int budget = std::clamp(int(options_.step_budget_ms / std::max(ms_per_step_, 0.05)), 1, 250);
+    const Clock::time_point start = Clock::now();
+    const int taken = session_->update(budget);
+    if (taken > 0) ms_per_step_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count() / taken;
+    if (autosave_.maybe_save(*session_)) shell_.autosaved();
+}
+
+void Editor::restart_deformation() {
+    session_->set_force_cpu(!settings_.force_cpu);  // each switch drops the deformation
+    session_->set_force_cpu(settings_.force_cpu);
+}
+
+Overlay Editor::overlay(std::optional<glm::dvec2> pointer) const {
+    const Viewport v = shell_.viewport();
+    Overlay out;
+    const auto on_screen = [&](const Vec3& p) -> std::optional<glm::dvec2> {
+        const glm::dvec3 s = camera_.project(p, v);
+        if (s.z > 1.0) return std::nullopt;
+        return glm::dvec2(s.x, s.y);
+    };
+    // The control polygon: legs 0-1 and 2-3 of each segment (a handle: its one line).
+    const std::vector<Vec3> points = session_->control_points();
+    const bool handle = session_->curve().curve.is_handle;
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+        const auto a = on_screen(points[i]), b = on_screen(points[i + 1]);
+        if ((handle || i % 3 != 1) && a && b) out.polygon.emplace_back(*a, *b);
+    }
+    const bool navigating = tools_.tool == Tool::navigate && pointer;
+    const auto hovered = navigating ? tools_.hovered_point(*session_, camera_, v, pointer->x, pointer->y) : std::nullopt;
+    for (std::size_t i = 0; i < points.size(); ++i)
+        if (const auto at = on_screen(points[i]))
+            out.points.push_back({*at, handle || i % 3 == 0, hovered == i || tools_.dragged_point() == i});
+    // The handle's gizmo, its hovered or dragged part highlighted.
+    if (const auto gizmo = tools_.gizmo(*session_, camera_, v); gizmo && gizmo->visible()) {
+        const glm::dvec2 at = pointer.value_or(glm::dvec2(-1.0));
+        const GizmoPart hot = pointer || tools_.active() ? tools_.highlighted_gizmo_part(*session_, camera_, v, at.x, at.y)
+                                                         : GizmoPart::none;
+        out.gizmo = gizmo->shapes(hot);
+        out.gizmo_hot = hot;
+    }
+    // Boundary loops, closed and in progress.
+    const auto surface = [&](const SurfacePoint& q) {
+        return on_screen(surface_position(session_->positions(), session_->triangles(), q));
+    };
+    for (const SurfaceLoop& loop : tools_.loops()) {
+        std::vector<glm::dvec2> line;
+        for (const SurfacePoint& q : loop)
+            if (const auto p = surface(q)) line.push_back(*p);
+        out.loops.push_back(line);
+    }
+    for (const SurfacePoint& q : tools_.loop_in_progress())
+        if (const auto p = surface(q)) out.loop_in_progress.push_back(*p);
+    // The brush's outline on the surface under the pointer.
+    if (is_brush(tools_.tool) && pointer) {
+        if (const auto hit = session_->pick_surface(camera_.ray(pointer->x, pointer->y, v))) {
+            const glm::dvec3 c = camera_.project(hit->position, v);
+            const glm::dvec3 r = camera_.project(hit->position + tools_.brush.radius * camera_.right(), v);
+            out.brush = glm::dvec3(c.x, c.y, std::hypot(r.x - c.x, r.y - c.y));
+        }
+    }
+    return out;
+}
+
+}  // namespace vfsd::editor

@@ -1,0 +1,154 @@
+#pragma once
+// One editor, whatever shows it: the session, tools, camera and view settings,
+// the autosave, the script runner, the per-frame step budget, the pointer's
+// press / drag / release rules, and the overlay to paint, as data. The shells
+// (desktop/: GLFW + Dear ImGui; web/: a page around a WebGL2 canvas) only adapt:
+// they open the window, turn its events into the calls below, paint the scene
+// (editor/session_view.h) and the Overlay, and draw their panels, whose controls
+// run the command table (editor/commands.h).
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "base/error.h"
+#include "editor/autosave.h"
+#include "editor/camera.h"
+#include "editor/commands.h"
+#include "editor/handle_gizmo.h"
+#include "editor/script.h"
+#include "editor/session.h"
+#include "editor/tools.h"
+
+namespace vfsd::editor {
+
+// What only the window or page can do (the rest of EditorHost the editor does itself).
+class Shell {
+public:
+    virtual ~Shell() = default;
+    virtual Viewport viewport() const = 0;
+    virtual void log(const std::string& line) = 0;
+    // Save the next rendered frame as PNG (with or without the panels).
+    virtual void screenshot(const std::string& path, bool ui) = 0;
+    // The autosave folder was written (the page copies it to IndexedDB).
+    virtual void autosaved() {}
+    // As EditorHost's: end as a crash would; place the hovering pointer; log frame times.
+    virtual void simulate_crash() { throw InputError("this editor cannot simulate a crash"); }
+    virtual void point_at(double, double) {}
+    virtual void log_frame_times(int) {}
+};
+
+// What the shells paint over the scene, in viewport pixels; only points in front
+// of the camera.
+struct OverlayPoint {
+    glm::dvec2 at;
+    bool knot = false;  // a curve's knot (dark) or a Bezier handle point (light); handles: both knots
+    bool hot = false;   // under the pointer or dragged
+};
+struct Overlay {
+    std::vector<std::pair<glm::dvec2, glm::dvec2>> polygon;  // the control polygon's legs (0-1 and 2-3 of each segment)
+    std::vector<OverlayPoint> points;
+    std::optional<GizmoShapes> gizmo;            // handle mode: the target's gizmo
+    GizmoPart gizmo_hot = GizmoPart::none;       // its part under the pointer or dragged
+    std::vector<std::vector<glm::dvec2>> loops;  // closed boundary loops
+    std::vector<glm::dvec2> loop_in_progress;
+    std::optional<glm::dvec3> brush;  // centre x, y and radius in pixels, under the pointer
+};
+
+struct EditorOptions {
+    std::string autosave_directory;
+    double autosave_seconds = 10.0;
+    // Per frame the deformation may take about this long, so the shell stays responsive.
+    double step_budget_ms = 15.0;
+    bool force_cpu = false;  // the "force CPU" setting at start
+};
+
+class Editor final : public EditorHost {
+public:
+    // `gpu` makes the GPU deformation (empty: CPU only, `gpu_reason` says why).
+    Editor(Shell& shell, DeformationFactory gpu, const std::string& gpu_reason, const EditorOptions& options);
+
+    EditorSession& session() { return *session_; }
+    const EditorSession& session() const { return *session_; }
+    const ToolController& tools() const { return tools_; }
+    Camera& camera() { return camera_; }
+    const Camera& camera() const { return camera_; }
+    Viewport viewport() const { return shell_.viewport(); }
+    const EditorSettings& settings() const { return settings_; }
+    const Autosave& autosave() const { return autosave_; }
+    const ScriptRunner* script() const { return script_.get(); }
+    // The last open's error ("" after a success) and a line for the status bar.
+    const std::string& load_error() const { return load_error_; }
+    const std::string& status() const { return status_; }
+    void set_status(std::string text) { status_ = std::move(text); }
+    // Wall time per step of the last frame's steps (GPU read-back included).
+    double ms_per_step() const { return ms_per_step_; }
+
+    // Opens a mesh or scene file; a failure keeps the document and sets load_error().
+    bool open(const std::string& path);
+    // The default scene, else the built-in box; at start-up (offers the autosave).
+    void open_default(const std::string& scene_path, bool offer_autosave);
+    void open_scene(const Scene& scene);
+    // Runs a command of the table (editor/commands.h); throws InputError.
+    void command(const std::string& name, const nlohmann::json& args = nlohmann::json::object());
+    // Runs the command bound to the key; false when none is.
+    bool key(const std::string& key, bool ctrl, bool shift);
+    void run_script(std::vector<ScriptAction> actions);
+
+    // The pointer, in viewport pixels. A press with `pan` (another button, or
+    // Shift) pans; otherwise the tool takes it, and when it declines the drag
+    // orbits. move() drags or, between presses, only hovers.
+    void press(double x, double y, bool pan);
+    void move(double x, double y);
+    void release();
+    void leave();
+    // The wheel, in notches (positive zooms in toward the pointer).
+    void wheel(double notches, double x, double y);
+    bool dragging() const { return drag_ != Drag::none; }
+    // Where the pointer hovers (none after leave()).
+    std::optional<glm::dvec2> pointer() const { return pointer_; }
+
+    // The frame's work before drawing: the script's actions, the deformation's
+    // steps toward the target within the step budget, the autosave.
+    void advance();
+    // What to paint over the scene; `pointer` hovers over the view (none: over a panel or outside).
+    Overlay overlay(std::optional<glm::dvec2> pointer) const;
+    // The context's loss (web): the deformation restarts from the CPU state.
+    void restart_deformation();
+
+    // A clean exit: the autosave goes, unless its offer was never answered.
+    void clean_exit();
+
+    // EditorHost
+    void screenshot(const std::string& path, bool ui) override { shell_.screenshot(path, ui); }
+    void loaded() override;
+    void log(const std::string& line) override { shell_.log(line); }
+    void autosave_now() override;
+    void answer_restore(bool restore) override;
+    void simulate_crash() override { shell_.simulate_crash(); }
+    void point_at(double x, double y) override { shell_.point_at(x, y); }
+    void log_frame_times(int frames) override { shell_.log_frame_times(frames); }
+
+private:
+    CommandContext context();
+
+    Shell& shell_;
+    EditorOptions options_;
+    std::unique_ptr<EditorSession> session_;
+    ToolController tools_;
+    Camera camera_;
+    EditorSettings settings_;
+    Autosave autosave_;
+    std::unique_ptr<ScriptRunner> script_;
+    double ms_per_step_ = 0.0;
+    std::string load_error_, status_;
+
+    enum class Drag { none, tool, orbit, pan } drag_ = Drag::none;
+    glm::dvec2 last_{0.0};
+    std::optional<glm::dvec2> pointer_;
+};
+
+}  // namespace vfsd::editor

@@ -1,0 +1,255 @@
+// The editor's command table: arguments are validated by type, the page's command
+// strings (web/vfsd-page.js) and every key binding run natively, the page's API
+// answers through the Editor without a browser, and docs/commands.md lists the
+// table as it is.
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "base/error.h"
+#include "editor/commands.h"
+#include "editor/editor.h"
+#include "editor/page_api.h"
+#include "test_io_support.h"
+
+using namespace vfsd;
+using namespace vfsd::editor;
+using nlohmann::json;
+
+namespace {
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    REQUIRE(in);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+class QuietHost final : public EditorHost {
+public:
+    void screenshot(const std::string&, bool) override {}
+    void loaded() override { ++loads; }
+    void log(const std::string&) override {}
+    void answer_restore(bool restore) override { answers.push_back(restore); }
+    int loads = 0;
+    std::vector<bool> answers;
+};
+
+// The table's context on the bar, with one undo and one redo step to take.
+struct TableEditor {
+    EditorSession session;
+    ToolController tools;
+    Camera camera;
+    EditorSettings settings;
+    QuietHost host;
+
+    TableEditor() {
+        session.open_mesh("builtin:bar");
+        tools.adapt_to(session);
+        camera.frame(session.base_positions(), 1.5);
+        run("add-segment");
+        run("remove-segment");
+        run("undo");
+    }
+    CommandContext context() { return {session, tools, camera, settings, Viewport{900, 600}, host}; }
+    bool run(const std::string& name, const json& args = json::object()) {
+        CommandContext c = context();
+        return run_command(name, args, c);
+    }
+};
+
+// The page's command objects written as plain literals ({ cmd: 'view', name: 'front' }),
+// as JSON.
+std::vector<json> page_literals(const std::string& page) {
+    std::vector<json> out;
+    const std::regex literal(R"(\{ cmd: '[a-z-]+'(, \w+: '[^']*')* \})");
+    const std::regex key(R"((\w+): '([^']*)')");
+    for (auto m = std::sregex_iterator(page.begin(), page.end(), literal); m != std::sregex_iterator(); ++m) {
+        const std::string text = m->str();
+        json object = json::object();
+        for (auto k = std::sregex_iterator(text.begin(), text.end(), key); k != std::sregex_iterator(); ++k)
+            object[(*k)[1].str()] = (*k)[2].str();
+        out.push_back(object);
+    }
+    return out;
+}
+
+std::set<std::string> matches(const std::string& text, const std::string& pattern) {
+    std::set<std::string> out;
+    const std::regex re(pattern);
+    for (auto m = std::sregex_iterator(text.begin(), text.end(), re); m != std::sregex_iterator(); ++m)
+        out.insert((*m)[1].str());
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("Commands: arguments are checked against the table", "[editor][commands]") {
+    TableEditor e;
+    CHECK_THROWS_WITH(e.run("set-time"), Catch::Contains("t: missing"));
+    CHECK_THROWS_WITH(e.run("set-time", {{"t", "1"}}), Catch::Contains("t: expected a number"));
+    CHECK_THROWS_WITH(e.run("set-time", {{"t", 1}, {"when", 2}}), Catch::Contains("unknown argument 'when'"));
+    CHECK_THROWS_WITH(e.run("view", {{"name", "sideways"}}), Catch::Contains("front|back"));
+    CHECK_THROWS_WITH(e.run("drag", {{"index", 1.5}, {"to", {1, 2}}}), Catch::Contains("whole number"));
+    CHECK_THROWS_WITH(e.run("paint", {{"tool", "inner"}, {"points", json::array()}}), Catch::Contains("list of [x, y]"));
+    CHECK_THROWS_WITH(e.run("fly"), Catch::Contains("unknown command 'fly'"));
+    // The dispatch keys of scripts and the page are not arguments.
+    CHECK(e.run("set-time", {{"action", "set-time"}, {"t", 0.5}}));
+    CHECK(e.run("set-time", {{"cmd", "set-time"}, {"t", 0.25}}));
+    CHECK(e.session.target_time() == 0.25);
+}
+
+TEST_CASE("Commands: the page's command strings run natively", "[editor][commands][web]") {
+    const std::string page = read_text(VFSD_SOURCE_DIR "/web/vfsd-page.js");
+    // The page's own queries: page_api.cpp's, and the shell's context hook.
+    const std::string shell = read_text(VFSD_SOURCE_DIR "/engine/editor/page_api.cpp") +
+                              read_text(VFSD_SOURCE_DIR "/web/main.cpp");
+
+    SECTION("every command the page sends is the table's or one of the page's queries") {
+        const std::set<std::string> queries = matches(shell, R"re(cmd == "([a-z-]+)")re");
+        const std::set<std::string> sent = matches(page, R"(cmd: '([a-z-]+)')");
+        REQUIRE(sent.size() > 10);
+        for (const std::string& name : sent) {
+            INFO(name);
+            const bool in_table = std::any_of(command_table().begin(), command_table().end(),
+                                              [&](const Command& c) { return name == c.name; });
+            CHECK(in_table != (queries.count(name) == 1));  // one or the other, never both
+        }
+    }
+    SECTION("each literal command runs in an editor") {
+        const std::set<std::string> queries = matches(shell, R"re(cmd == "([a-z-]+)")re");
+        const std::vector<json> literals = page_literals(page);
+        REQUIRE(literals.size() > 10);
+        for (const json& c : literals) {
+            const std::string name = c["cmd"];
+            if (queries.count(name)) continue;  // a query of the page's own (state, checksum, ...)
+            INFO(c.dump());
+            TableEditor e;
+            CHECK_NOTHROW(e.run(name, c));
+        }
+    }
+    SECTION("the sliders' strings and their gestures") {
+        TableEditor e;
+        const std::size_t before = e.session.history().undo_count();
+        e.run("g-range", json::parse(R"({"cmd": "g-range", "gesture": true, "g_min": 0.2})"));
+        e.run("g-range", json::parse(R"({"cmd": "g-range", "gesture": true, "g_max": 0.7})"));
+        e.run("end-gesture", json::parse(R"({"cmd": "end-gesture"})"));
+        CHECK(e.tools.g_min == 0.2);
+        CHECK(e.tools.g_max == 0.7);
+        e.run("twist", json::parse(R"({"cmd": "twist", "gesture": true, "alpha": [0, 20]})"));
+        e.run("twist", json::parse(R"({"cmd": "twist", "gesture": true, "alpha": [0, 40]})"));
+        e.run("end-gesture", json::parse(R"({"cmd": "end-gesture"})"));
+        CHECK(e.session.curve().twist_degrees[1] == 40.0);
+        CHECK(e.session.history().undo_count() <= before + 2);  // one step per drag at most
+        e.run("brush", json::parse(R"({"cmd": "brush", "radius": 0.3})"));
+        CHECK(e.tools.brush.radius == 0.3);
+        e.run("axis", json::parse(R"({"cmd": "axis", "name": "y"})"));
+        CHECK(e.tools.axis == 1);
+        e.run("set-time", json::parse(R"({"cmd": "set-time", "t": 0.5})"));
+        CHECK(e.session.target_time() == 0.5);
+        e.run("wireframe", json::parse(R"({"cmd": "wireframe", "on": true})"));
+        CHECK(e.settings.wireframe);
+    }
+}
+
+TEST_CASE("Commands: every key binding runs its command", "[editor][commands][keys]") {
+    for (const KeyBinding& k : key_bindings()) {
+        INFO(k.key);
+        CHECK(key_name(k.key, false, false) == k.key);  // names are key_name's own
+        TableEditor e;
+        const std::string key = std::string(k.key);
+        const bool ctrl = key.rfind("ctrl+", 0) == 0, shift = key.rfind("ctrl+shift+", 0) == 0;
+        const std::string bare = key.substr(shift ? 11 : ctrl ? 5 : 0);
+        CommandContext c = e.context();
+        CHECK(run_key(bare == "space" ? " " : bare, ctrl, shift, c));
+    }
+    TableEditor e;
+    CommandContext c = e.context();
+    const double radius = e.tools.brush.radius;
+    run_key("]", false, false, c);
+    CHECK(e.tools.brush.radius == Approx(1.2 * radius));
+    run_key("X", false, true, c);  // Shift alone does not change a key
+    CHECK(e.tools.axis == 0);
+    run_key("x", false, false, c);
+    CHECK(e.tools.axis == -1);
+    run_key("Z", true, true, c);  // ctrl+shift+z: redo
+    CHECK(e.session.history().redo_count() == 0);
+    CHECK_FALSE(run_key("q", false, false, c));
+}
+
+TEST_CASE("Commands: docs/commands.md lists the table", "[editor][commands][docs]") {
+    const std::string docs = read_text(VFSD_SOURCE_DIR "/docs/commands.md");
+    const std::string begin = "<!-- table: begin -->\n", end = "<!-- table: end -->";
+    const std::size_t from = docs.find(begin), to = docs.find(end);
+    REQUIRE(from != std::string::npos);
+    REQUIRE(to != std::string::npos);
+    const std::string listed = docs.substr(from + begin.size(), to - from - begin.size());
+    if (listed != commands_markdown()) {
+        std::ofstream(VFSD_SOURCE_DIR "/build/commands.md.expected") << commands_markdown();
+        FAIL("docs/commands.md differs from the table; the table's text is in build/commands.md.expected");
+    }
+}
+
+namespace {
+
+// A window of fixed size without a GPU: the Editor as the page's shell holds it.
+class TestShell final : public Shell {
+public:
+    Viewport viewport() const override { return {900, 600}; }
+    void log(const std::string&) override {}
+    void screenshot(const std::string&, bool) override {}
+};
+
+}  // namespace
+
+TEST_CASE("Commands: the page's API answers natively through the Editor", "[editor][commands][web]") {
+    test::ScratchDir dir;
+    TestShell shell;
+    EditorOptions options;
+    options.autosave_directory = dir.file("autosave");
+    Editor editor(shell, {}, "no GPU in this test", options);
+    editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+    const PageInfo page{dir.path().string(), "test", false};
+    const auto send = [&](const std::string& text) { return page_command(editor, json::parse(text), page); };
+
+    const json state = send(R"({"cmd": "state"})");
+    CHECK(state["stats"]["vertices"].get<int>() > 0);
+    CHECK(state["tool"] == "navigate");
+    CHECK(send(R"({"cmd": "tool", "name": "paint inner"})")["tool"] == "paint inner");
+    CHECK(send(R"({"cmd": "key", "key": "g", "ctrl": false, "shift": false})")["tool"] == "geodesic");
+    CHECK(send(R"({"cmd": "key", "key": "q", "ctrl": false, "shift": false})")["handled"] == false);
+    CHECK_THROWS_WITH(send(R"({"cmd": "brush", "radius": "wide"})"), Catch::Contains("radius: expected a number"));
+    CHECK(send(R"({"cmd": "open", "path": "no-such-file.obj"})")["load_error"] != "");
+
+    // Time runs in frames, as the page's runTo waits for them.
+    send(R"({"cmd": "set-time", "t": 0.5})");
+    while (editor.session().moving()) editor.advance();
+    const double moved = send(R"({"cmd": "checksum"})")["checksum"];
+    const json exported = send(R"({"cmd": "export-mesh", "format": "obj"})");
+    CHECK(std::filesystem::exists(exported["path"].get<std::string>()));
+    const json scene = send(R"({"cmd": "export-scene"})")["scene"];
+    CHECK(scene["target_time"] == 0.5);
+    send(R"({"cmd": "key", "key": "r"})");  // reset
+    CHECK(send(R"({"cmd": "checksum"})")["checksum"] != moved);
+
+    // The pointer's aim: a mesh point's pixel, and the gizmo's parts once a handle is placed.
+    const Vec3 centre = editor.camera().target;
+    const json pixels = send(R"({"cmd": "project", "points": [[)" + std::to_string(centre.x) + ", " +
+                             std::to_string(centre.y) + ", " + std::to_string(centre.z) + "]]}")["pixels"];
+    CHECK(pixels[0][0].get<double>() == Approx(450.0).margin(1.0));  // the view's centre
+    CHECK(pixels[0][1].get<double>() == Approx(300.0).margin(1.0));
+    CHECK(send(R"({"cmd": "gizmo-parts"})")["parts"].is_null());
+    send(R"({"cmd": "place-handle", "at": [450, 300]})");
+    CHECK(send(R"({"cmd": "gizmo-parts"})")["parts"].contains("ring-z"));
+
+    // The overlay the page paints: the handle's two points and its gizmo.
+    const json overlay = overlay_json(editor.overlay(std::nullopt));
+    CHECK(overlay["points"].size() == 2);
+    CHECK(overlay["gizmo"].is_object());
+}
