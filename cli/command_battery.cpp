@@ -20,14 +20,12 @@
 #include "base/parallel.h"
 #include "cli/commands.h"
 #include "deform/quality.h"
+#include "gpu/context.h"
+#include "gpu/renderer.h"
 #include "mesh/geometry.h"
 #include "scene/battery.h"
 #include "scene/framing.h"
 #include "scene/prepared_scene.h"
-#if VFSD_HAS_GPU
-#include "gpu/context.h"
-#include "gpu/renderer.h"
-#endif
 
 namespace vfsd::cli {
 namespace {
@@ -110,7 +108,6 @@ void write_worst(const std::filesystem::path& dir, int rank, const Outcome& o) {
     Scene scene = o.battery.scene;
     scene.mesh = stem + ".ply";
     write_file_atomically((dir / (stem + ".json")).string(), scene_to_json(scene).dump(1) + "\n");
-#if VFSD_HAS_GPU
     try {
         const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();
         const PreparedScene prepared = prepare_scene(o.battery.scene, o.battery.mesh);
@@ -126,7 +123,6 @@ void write_worst(const std::filesystem::path& dir, int rank, const Outcome& o) {
     } catch (const vfsd::Error& e) {
         std::fprintf(stderr, "battery: no picture of %s: %s\n", o.battery.name.c_str(), e.what());
     }
-#endif
 }
 
 void write_csv(const std::filesystem::path& path, const std::vector<Outcome>& outcomes) {

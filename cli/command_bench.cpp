@@ -17,13 +17,12 @@
 #include "base/error.h"
 #include "base/parallel.h"
 #include "cli/commands.h"
+#include "deform/cpu_steps.h"
 #include "deform/quality.h"
-#include "io/mesh_file.h"
-#include "mesh/geometry.h"
-#if VFSD_HAS_GPU
 #include "gpu/context.h"
 #include "gpu/gpu_deformation.h"
-#endif
+#include "io/mesh_file.h"
+#include "mesh/geometry.h"
 
 namespace vfsd::cli {
 namespace {
@@ -104,19 +103,15 @@ void time_cpu(const TriangleMesh& mesh, const VertexRings& rings, const Region& 
     rel_spread = spread(all);
 }
 
-#if VFSD_HAS_GPU
 double time_gpu(const TriangleMesh& mesh, const VertexRings& rings, const Region& region, const InnerMotion& motion,
                 DeformationOptions options, int steps) {
     options.steps = steps;
-    gpu::GpuDeformation d(mesh.positions, rings, region, motion, options);
+    Deformation d = gpu::make_gpu_deformation(mesh.positions, rings, region, motion, gpu_mirrored(options));
     d.advance(1.0 / steps);  // warm up: shader compilation, first upload
-    d.finish();
     const auto start = std::chrono::steady_clock::now();
-    const int taken = d.advance(1.0);
-    d.finish();
+    const int taken = d.advance(1.0);  // ends with a finish()
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / taken;
 }
-#endif
 
 Result run_model(const Model& model, int steps, int repeat, bool with_gpu) {
     Result r;
@@ -131,7 +126,7 @@ Result run_model(const Model& model, int steps, int repeat, bool with_gpu) {
     options.steps = steps;
     r.vertices = mesh.vertex_count();
     r.blend_vertices = blend_vertices(region.s).size();
-    r.bytes_per_vertex = double(Deformation(mesh.positions, rings, region, motion, options).state_bytes()) / double(r.vertices);
+    r.bytes_per_vertex = double(CpuSteps(mesh.positions, rings, region, motion, options).state_bytes()) / double(r.vertices);
     const auto start = std::chrono::steady_clock::now();
     std::vector<Vec3> final_positions;
     time_cpu(mesh, rings, region, motion, options, repeat, 0, r.cpu_ms, r.cpu_spread, &final_positions);
@@ -140,11 +135,7 @@ Result run_model(const Model& model, int steps, int repeat, bool with_gpu) {
     const DeformationQuality q = measure_quality(mesh.positions, final_positions, mesh.triangles, region.s);
     r.volume_error = q.volume_error_percent;
     r.flipped = q.flipped_triangles;
-#if VFSD_HAS_GPU
     if (with_gpu) r.gpu_ms = time_gpu(mesh, rings, region, motion, options, std::min(steps, 25));
-#else
-    (void)with_gpu;
-#endif
     return r;
 }
 
@@ -194,7 +185,6 @@ int run_bench(const Args& args) {
     const int repeat = static_cast<int>(args.get_number("repeat", quick ? 1 : 3));
     if (steps < 1 || repeat < 1) throw UsageError("--steps and --repeat must be positive");
     bool with_gpu = !args.has("no-gpu");
-#if VFSD_HAS_GPU
     std::unique_ptr<gpu::Context> context;
     try {
         if (with_gpu) context = gpu::create_headless_context();
@@ -202,12 +192,7 @@ int run_bench(const Args& args) {
         std::fprintf(stderr, "bench: no GPU backend (%s)\n", e.what());
         with_gpu = false;
     }
-#else
-    with_gpu = false;
-#endif
-#if VFSD_HAS_GPU
     if (context) std::printf("GPU backend: %s (%s)\n", context->renderer().c_str(), context->kind().c_str());
-#endif
     std::vector<Result> results;
     const std::string only = args.has("only") ? args.get("only") : "";
     for (const Model& m : models(quick)) {

@@ -20,11 +20,9 @@
 #include "cli/commands.h"
 #include "deform/quality.h"
 #include "io/mesh_file.h"
-#include "scene/prepared_scene.h"
-#if VFSD_HAS_GPU
 #include "gpu/context.h"
 #include "gpu/gpu_deformation.h"
-#endif
+#include "scene/prepared_scene.h"
 
 namespace vfsd::cli {
 namespace {
@@ -47,8 +45,7 @@ struct FoldWatch {
 
 // Integrates to `target` in chunks, showing progress on a terminal and watching
 // for folds.
-template <class D>
-FoldWatch run_to(D& deformation, double target, const PreparedScene& p) {
+FoldWatch run_to(Deformation& deformation, double target, const PreparedScene& p) {
     const bool tty = isatty(fileno(stderr));
     const int chunk = std::max(1, deformation.options().steps / 50);
     const int check_every = std::max(1, deformation.options().steps / 10);
@@ -89,32 +86,15 @@ nlohmann::json describe_folds(const PreparedScene& p, const std::vector<Vec3>& a
             {"triangles", std::vector<std::uint32_t>(folded.begin(), folded.begin() + std::min(folded.size(), kListed))}};
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-}
-
-// The CPU's steps are timed one by one; the GPU runs asynchronously, so its
-// ms/step is the whole run (ended by a glFinish) over the steps.
-double ms_per_step(const Deformation& d, double) { return median(d.step_milliseconds()); }
-void finish(const Deformation&) {}
-#if VFSD_HAS_GPU
-double ms_per_step(const gpu::GpuDeformation& d, double total_ms) {
-    return d.step_milliseconds().empty() ? 0.0 : total_ms / double(d.step_milliseconds().size());
-}
-void finish(const gpu::GpuDeformation& d) { d.finish(); }
-#endif
-
-template <class D>
-nlohmann::json report_json(const PreparedScene& p, const D& d, const DeformationQuality& q, double total_ms) {
+nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const DeformationQuality& q,
+                           double total_ms) {
     return {{"vertices", p.file.mesh.vertex_count()},
             {"triangles", p.file.mesh.triangle_count()},
             {"steps", d.step_milliseconds().size()},
             {"steps_per_unit_time", d.options().steps},
             {"target_time", d.time()},
-            {"backend", "cpu"},
-            {"ms_per_step", ms_per_step(d, total_ms)},
+            {"backend", d.backend_name()},
+            {"ms_per_step", d.ms_per_step()},
             {"total_ms", total_ms},
             {"volume_before", q.volume_before},
             {"volume_after", q.volume_after},
@@ -139,12 +119,10 @@ void write_field(const std::string& path, const MeshFile& file, const std::vecto
 }
 
 // Integrates to the scene's target time, writes the mesh and the report.
-template <class D>
-int deform_and_write(const Args& args, const PreparedScene& prepared, D& deformation,
+int deform_and_write(const Args& args, const PreparedScene& prepared, Deformation& deformation,
                      const nlohmann::json& backend_fields) {
     const auto start = std::chrono::steady_clock::now();
     const FoldWatch watch = run_to(deformation, prepared.scene.target_time, prepared);
-    finish(deformation);
     const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
     TriangleMesh result = prepared.file.mesh;
@@ -197,22 +175,17 @@ int run_deform(const Args& args) {
         Deformation deformation = prepared.start_deformation();
         return deform_and_write(args, prepared, deformation, nlohmann::json::object());
     }
-#if VFSD_HAS_GPU
     const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();  // GpuUnavailable: exit 1
     if (!gpu_mirrors(scene.options))
         std::fprintf(stderr, "warning: the GPU passes run sec. 5 as printed: no stream gauge fit, no volume keeping "
                              "(docs/gpu.md); --backend cpu takes them\n");
-    gpu::GpuDeformation deformation(prepared.file.mesh.positions, prepared.rings, prepared.region, prepared.motion,
-                                    gpu_mirrored(scene.options));
+    Deformation deformation = gpu::make_gpu_deformation(prepared.file.mesh.positions, prepared.rings, prepared.region,
+                                                        prepared.motion, gpu_mirrored(scene.options));
     return deform_and_write(args, prepared, deformation,
-                            {{"backend", "gpu"},
-                             {"gl_context", context->kind()},
+                            {{"gl_context", context->kind()},
                              {"gl_renderer", context->renderer()},
                              {"stream_gauge", "paper"},
                              {"keep_volume", false}});
-#else
-    throw vfsd::Error("this vfsd was built without the GPU backend (no headless GL: OSMesa not found); use --backend cpu");
-#endif
 }
 
 }  // namespace vfsd::cli

@@ -10,17 +10,15 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "base/error.h"
 #include "cli/commands.h"
 #include "scene/framing.h"
-#include "scene/prepared_scene.h"
-
-#if VFSD_HAS_GPU
 #include "gpu/context.h"
 #include "gpu/gpu_deformation.h"
 #include "gpu/renderer.h"
-#endif
+#include "scene/prepared_scene.h"
 
 namespace vfsd::cli {
 namespace {
@@ -70,7 +68,6 @@ int run_render(const Args& args) {
         if (steps < 1 || steps != static_cast<int>(steps)) throw UsageError("--steps expects a positive integer");
         scene.options.steps = static_cast<int>(steps);
     }
-#if VFSD_HAS_GPU
     const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();
     const PreparedScene prepared = prepare_scene(scene);
     for (const std::string& w : prepared.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -93,26 +90,24 @@ int run_render(const Args& args) {
     options.target_time = scene.target_time;
     options.wireframe = args.has("wireframe");
 
-    std::vector<std::uint8_t> image;
-    if (backend == "gpu" && !prepared.region.sphere_tool) {
-        gpu::GpuDeformation deformation(start, prepared.rings, prepared.region, prepared.motion,
-                                        gpu_mirrored(scene.options));
-        deformation.advance(time);
-        options.vertex_origin = deformation.passes().vertex_origin();
-        image = gpu::render_image(renderer, deformation.passes().vertex_texture(), camera, width, height, options);
-    } else {
-        Deformation deformation = prepared.start_deformation();
-        deformation.advance(time);
-        const gpu::Texture vertices = gpu::make_vertex_texture(deformation.positions(), prepared.region.s);
-        image = gpu::render_image(renderer, vertices, camera, width, height, options);
-    }
+    Deformation deformation = backend == "gpu" && !prepared.region.sphere_tool
+                                  ? gpu::make_gpu_deformation(start, prepared.rings, prepared.region, prepared.motion,
+                                                              gpu_mirrored(scene.options))
+                                  : prepared.start_deformation();
+    deformation.advance(time);
+    // The GPU's vertex texture is drawn as it is; the CPU's positions are uploaded.
+    const std::optional<DeviceVertices> on_gpu = deformation.device_vertices();
+    std::optional<gpu::Texture> uploaded;
+    if (on_gpu)
+        options.vertex_origin = on_gpu->origin;
+    else
+        uploaded = gpu::make_vertex_texture(deformation.positions(), prepared.region.s);
+    const std::vector<std::uint8_t> image =
+        gpu::render_image(renderer, on_gpu ? *on_gpu->texture : *uploaded, camera, width, height, options);
     gpu::write_png(out, width, height, image);
     std::printf("%s: %dx%d, t = %g, %s (%s: %s)\n", out.c_str(), width, height, time, backend.c_str(),
                 context->kind().c_str(), context->renderer().c_str());
     return kExitOk;
-#else
-    throw vfsd::Error("this vfsd was built without headless GL (OSMesa not found), so it cannot render");
-#endif
 }
 
 }  // namespace vfsd::cli

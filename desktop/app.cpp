@@ -10,7 +10,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
-#include "editor/gpu_live_deformation.h"
+#include "gpu/gpu_deformation.h"
 #include "gpu/capabilities.h"
 #include "gpu/context.h"
 #include "gpu/gl.h"
@@ -70,7 +70,7 @@ App::App(const AppOptions& options) : options_(options), window_(open_window(opt
     } else {
         try {
             gpu::require_gpu_support(gpu::query_capabilities());
-            gpu = editor::make_gpu_deformation;
+            gpu = gpu::start_gpu_deformation;
         } catch (const std::exception& e) {
             reason = e.what();
         }

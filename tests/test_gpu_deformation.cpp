@@ -64,7 +64,7 @@ TEST_CASE("GPU deformation of every scene agrees with the CPU", "[gpu][scene]") 
         const double cpu_ms = ms_since(t0);
 
         t0 = std::chrono::steady_clock::now();
-        gpu::GpuDeformation gpu(start, prepared.rings, prepared.region, prepared.motion, scene.options);
+        Deformation gpu = gpu::make_gpu_deformation(start, prepared.rings, prepared.region, prepared.motion, scene.options);
         const std::uint64_t readbacks = gpu::readback_count();
         const int steps = gpu.advance(scene.target_time);
         gpu.finish();
@@ -101,7 +101,7 @@ TEST_CASE("GPU deformation integrates back and forth on the CPU's time grid", "[
     scene.options = gpu_mirrored(scene.options);
     const PreparedScene prepared = prepare_scene(scene);
     Deformation cpu = prepared.start_deformation();
-    gpu::GpuDeformation gpu(prepared.file.mesh.positions, prepared.rings, prepared.region, prepared.motion,
+    Deformation gpu = gpu::make_gpu_deformation(prepared.file.mesh.positions, prepared.rings, prepared.region, prepared.motion,
                             scene.options);
     for (double target : {0.37, 1.0, 0.5, 0.0}) {
         CHECK(gpu.advance(target, 7) == cpu.advance(target, 7));
@@ -124,7 +124,7 @@ TEST_CASE("GPU deformation of battery scenes agrees with the CPU", "[battery][gp
         const PreparedScene prepared = prepare_scene(scene, b.mesh);
         Deformation cpu = prepared.start_deformation();
         cpu.advance(scene.target_time);
-        gpu::GpuDeformation gpu(prepared.file.mesh.positions, prepared.rings, prepared.region, prepared.motion,
+        Deformation gpu = gpu::make_gpu_deformation(prepared.file.mesh.positions, prepared.rings, prepared.region, prepared.motion,
                                 scene.options);
         gpu.advance(scene.target_time);
         const double diagonal = bounding_box(prepared.file.mesh.positions).diagonal();

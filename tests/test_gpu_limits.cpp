@@ -49,10 +49,10 @@ TEST_CASE("the GPU path takes what fits its textures and refuses the rest, namin
 TEST_CASE("an editor whose GPU cannot hold the mesh deforms on the CPU and says why", "[gpu][robustness][editor]") {
     // The GPU factory checks the mesh against a 64 x 64 texture, as GpuPasses does
     // with the context's real limit; the built-in bar (9,730 vertices) does not fit.
-    editor::EditorSession session([](const PreparedScene& scene) -> std::unique_ptr<editor::LiveDeformation> {
+    editor::EditorSession session([](const PreparedScene& scene) -> Deformation {
         gpu::require_gpu_support(small_gpu(64), std::max(scene.file.mesh.vertex_count(), scene.rings.neighbours.size()));
         FAIL("the mesh should not fit");
-        return nullptr;
+        throw std::logic_error("unreachable");
     });
     session.open_mesh("builtin:bar");
     session.set_target_time(0.1);
@@ -72,7 +72,7 @@ TEST_CASE("the GPU path refuses meshes too small or too large for float textures
         std::vector<Vec3> positions = p.file.mesh.positions;
         for (Vec3& x : positions) x *= scale;
         try {
-            gpu::GpuDeformation d(positions, p.rings, p.region, p.motion, scene.options);
+            Deformation d = gpu::make_gpu_deformation(positions, p.rings, p.region, p.motion, scene.options);
             FAIL("the GPU took a mesh scaled by " << scale);
         } catch (const gpu::GpuUnavailable& e) {
             CHECK_THAT(e.what(), Catch::Contains(scale < 1 ? "coordinates too small" : "coordinates too large") &&

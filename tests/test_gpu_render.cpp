@@ -52,14 +52,14 @@ TEST_CASE("Rendered scene shows s = 0 in blue and s = 1 in red", "[gpu][render]"
     const auto& start = prepared.file.mesh.positions;
     const gpu::Camera camera = gpu::Camera::framing(deformation_frame_points(start, prepared.region.s, prepared.motion));
     const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
-    gpu::GpuDeformation deformation(start, prepared.rings, prepared.region, prepared.motion, scene.options);
+    Deformation deformation = gpu::make_gpu_deformation(start, prepared.rings, prepared.region, prepared.motion, scene.options);
     for (double t : {0.0, 1.0}) {
         deformation.advance(t);
         gpu::RenderOptions options;
         options.current_time = t;
-        options.vertex_origin = deformation.passes().vertex_origin();
+        options.vertex_origin = deformation.device_vertices()->origin;
         const std::vector<std::uint8_t> image =
-            gpu::render_image(renderer, deformation.passes().vertex_texture(), camera, 160, 120, options);
+            gpu::render_image(renderer, *deformation.device_vertices()->texture, camera, 160, 120, options);
         REQUIRE(image.size() == 160u * 120u * 4u);
         const PixelCounts c = count_pixels(image);
         INFO("t = " << t << ": " << c.blue << " blue, " << c.red << " red, " << c.background << " background pixels");

@@ -28,7 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "editor/editor.h"
-#include "editor/gpu_live_deformation.h"
+#include "gpu/gpu_deformation.h"
 #include "editor/page_api.h"
 #include "editor/session_view.h"
 #include "gpu/capabilities.h"
@@ -169,7 +169,7 @@ void App::init_gl() {
     }
     try {
         gpu::require_gpu_support(caps);
-        gpu_ = editor::make_gpu_deformation;
+        gpu_ = gpu::start_gpu_deformation;
     } catch (const std::exception& e) {
         gpu_reason_ = e.what();
     }

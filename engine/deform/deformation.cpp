@@ -5,84 +5,20 @@
 #include <cmath>
 #include <string>
 
-#include "base/error.h"
-#include "field/stream_gauge.h"
-#include "field/vector_field.h"
-#include "mesh/vertex_order.h"
+#include "deform/cpu_steps.h"
 
 namespace vfsd {
 
-namespace {
-
-// Which blend vertices the gauge is fitted to: all of a blend region of at most
-// kGaugeSamples vertices, else the vertices at kGaugeSamples even steps through
-// the blend region ordered by s, each with every vertex of equal s (to 1e-9: a
-// symmetric mesh's mirror images, whatever the rounding of s): a set that
-// depends neither on the order of the input's vertices nor on where the mesh is
-// placed. (The final shape differs between sample sets by up to a few percent of
-// the diagonal, so the set must be canonical.) Where s takes so few values that
-// this would be more than four times kGaugeSamples vertices (a mesh symmetric
-// about the curve, such as a finely meshed cylinder), the steps' vertices alone
-// are taken, and mirror images are told apart by the vertex order.
-std::vector<std::uint32_t> gauge_samples(const std::vector<double>& s, const std::vector<std::uint32_t>& blend) {
-    constexpr std::size_t kGaugeSamples = 512;
-    if (blend.size() <= kGaugeSamples) return blend;
-    std::vector<std::pair<long long, std::uint32_t>> keyed;
-    for (const std::uint32_t v : blend) keyed.push_back({std::llround(s[v] * 1e9), v});
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<long long> chosen;  // the keys at kGaugeSamples even steps through the order
-    for (std::size_t k = 0; k < kGaugeSamples; ++k) chosen.push_back(keyed[k * keyed.size() / kGaugeSamples].first);
-    std::vector<std::uint32_t> samples;
-    for (const auto& [key, v] : keyed)
-        if (std::binary_search(chosen.begin(), chosen.end(), key)) samples.push_back(v);
-    if (samples.size() <= 4 * kGaugeSamples) return samples;
-    samples.clear();
-    for (std::size_t k = 0; k < kGaugeSamples; ++k) samples.push_back(keyed[k * keyed.size() / kGaugeSamples].second);
-    return samples;
-}
-
-}  // namespace
-
-Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
-                         DeformationOptions options)
-    : positions_(std::move(positions)),
-      rings_(std::move(rings)),
-      region_(std::move(region)),
-      motion_(std::move(motion)),
-      options_(options) {
-    if (options_.steps < 1) throw InputError("steps must be at least 1");
-    if (options_.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
-    if (!region_.sphere_tool) {
-        if (region_.s.size() != positions_.size())
-            throw InputError("region: " + std::to_string(region_.s.size()) + " values of s for " +
-                             std::to_string(positions_.size()) + " vertices");
-        if (rings_.vertex_count() != positions_.size()) throw InputError("rings do not match the mesh");
-    }
-    if (!region_.sphere_tool) {
-        frame_ = LocalFrame::of(positions_);
-        input_order_ = positions_;
-        for (Vec3& p : positions_) p = frame_.to_local(p);
-        order_ = breadth_first_order(rings_);
-        positions_ = gather_in_order(positions_, order_);
-        rings_ = reorder_rings(rings_, order_);
-        s_ = gather_in_order(region_.s, order_);
-        parts_ = RegionParts::of(s_, rings_);
-        gauge_samples_ = gauge_samples(s_, parts_.blend);
-        if (options_.keep_volume) volume_ = VolumeKeeper(positions_, s_, rings_, parts_.blend);
-    }
-    normals_.assign(positions_.size(), Vec3(0.0));
-    gradients_.assign(positions_.size(), Vec3(0.0));
-    next_ = positions_;
-    midpoints_ = positions_;
+void check_options(const DeformationOptions& options) {
+    if (options.steps < 1) throw InputError("steps must be at least 1");
+    if (options.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
 }
 
 const char* const kGpuUnmirroredReason =
     "the GPU passes do not fit the stream's gauge or keep the volume yet (docs/gpu.md); the CPU runs them, or set "
     "\"stream_gauge\": \"paper\" and \"keep_volume\": false";
 
-bool gpu_mirrors(const DeformationOptions& options) {
-    return !options.fit_stream_gauge && !options.keep_volume;
-}
+bool gpu_mirrors(const DeformationOptions& options) { return !options.fit_stream_gauge && !options.keep_volume; }
 
 DeformationOptions gpu_mirrored(DeformationOptions options) {
     options.fit_stream_gauge = options.keep_volume = false;
@@ -96,120 +32,67 @@ double next_time_on_grid(double time, double target, int steps) {
     return (target > time) == (next > target) ? target : next;
 }
 
+NumericalError nonfinite_position(std::size_t vertex, int step, double time) {
+    return NumericalError("integration step " + std::to_string(step) + " (t = " + std::to_string(time) +
+                          ") made vertex " + std::to_string(vertex) + " non-finite; the mesh before that step is kept");
+}
+
+Deformation::Deformation(std::unique_ptr<StepBackend> backend, DeformationOptions options)
+    : backend_(std::move(backend)), options_(options) {
+    check_options(options_);
+}
+
+Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
+                         DeformationOptions options)
+    : Deformation(std::make_unique<CpuSteps>(std::move(positions), std::move(rings), std::move(region),
+                                             std::move(motion), options),
+                  options) {}
+
 int Deformation::advance(double target, int max_steps) {
     target = std::clamp(target, 0.0, 1.0);
+    using Clock = std::chrono::steady_clock;
+    const auto milliseconds = [](Clock::time_point since) {
+        return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
+    };
+    const auto start = Clock::now();
     int taken = 0;
     while (taken < max_steps && time_ != target) {
         const double next = next_time_on_grid(time_, target, options_.steps);
-        step(next - time_);
+        const auto step_start = Clock::now();
+        backend_->step(time_, next - time_, steps_taken_ + 1);
         time_ = next;
+        ++steps_taken_;
         ++taken;
+        if (!backend_->asynchronous()) step_ms_.push_back(milliseconds(step_start));
+    }
+    if (taken > 0 && backend_->asynchronous()) {
+        backend_->finish();
+        step_ms_.insert(step_ms_.end(), taken, milliseconds(start) / taken);
+        checked_ = false;
     }
     return taken;
 }
 
-void Deformation::step(double h) {
-    const auto start = std::chrono::steady_clock::now();
-    StepMotion motion = StepMotion::sample(motion_, time_, h);
-    for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) *m = frame_.to_local(*m);
-    if (region_.sphere_tool) {
-        next_ = positions_;
-        deformation_step(motion, *region_.sphere_tool, next_);
-        check_finite(next_);
-    } else {
-        // The gauge, like ∇r, is taken where the step's middle is, so that a step
-        // back retraces the step; the midpoints are predicted with the last step's
-        // ∇r and gauge fit, as sec. 5 with midpoint gradients does for ∇r alone.
-        if (!options_.gradients_at_midpoint || !have_gradients_) {
-            estimate_surface_gradients(positions_);
-            if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(positions_);
-        }
-        if (options_.fit_stream_gauge) motion.start.gauge = gauge_fit_->gauge_for(motion.start);
-        if (options_.gradients_at_midpoint) {
-            predict_midpoints(motion.start, h, s_, parts_, gradients_, positions_, midpoints_);
-            estimate_surface_gradients(midpoints_);
-            if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(midpoints_);
-        }
-        if (options_.fit_stream_gauge)
-            for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
-        deformation_step(motion, s_, parts_, gradients_, positions_, next_);
-        check_finite(next_);
-    }
-    positions_.swap(next_);
-    // The volume drift is undone after every step, while it is small and smooth
-    // (restoring it every few steps folded thin features); it is then part of
-    // the step's map, and a step back undoes it as well.
-    if (!region_.sphere_tool) volume_restored_ += std::abs(volume_.restore(positions_, rings_));
-    input_order_current_ = false;
-    step_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-}
-
 const std::vector<Vec3>& Deformation::positions() const {
-    if (order_.empty()) return positions_;
-    if (!input_order_current_) {
-        // The outer region does not move: input_order_ keeps its input positions.
-        for (const auto* part : {&parts_.inner, &parts_.blend})
-            for (const std::uint32_t v : *part) input_order_[order_[v]] = frame_.to_world(positions_[v]);
-        input_order_current_ = true;
+    const std::vector<Vec3>& positions = backend_->positions();
+    if (checked_) return positions;
+    // An asynchronous backend cannot stop mid-advance: the first non-finite
+    // position is found here, after the fact.
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        const Vec3& p = positions[v];
+        if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
+            throw NumericalError(std::string("the ") + backend_->name() + " integration made vertex " +
+                                 std::to_string(v) + " non-finite by t = " + std::to_string(time_));
     }
-    return input_order_;
+    checked_ = true;
+    return positions;
 }
 
-// The stream gauge's fit to the blend region at `at` with the current ∇r.
-GaugeFit Deformation::fit_stream_gauge(const std::vector<Vec3>& at) const {
-    std::vector<GaugeSample> samples;
-    for (const std::uint32_t v : gauge_samples_) {
-        const double weight = (1.0 - bernstein_blend(s_[v])) * bernstein_blend_derivative(s_[v]);
-        samples.push_back({at[v], weight * gradients_[v]});
-    }
-    return GaugeFit(std::move(samples));
-}
-
-double Deformation::volume_restored_percent() const {
-    return volume_.active() && volume_.rest_volume() != 0.0 ? 100.0 * volume_restored_ / std::abs(volume_.rest_volume())
-                                                            : 0.0;
-}
-
-// Normal, gradient (eq. 6) and smoothing passes on the positions `at`.
-void Deformation::estimate_surface_gradients(const std::vector<Vec3>& at) {
-    estimate_normals(at, rings_, parts_.blend, normals_);
-    estimate_gradients(at, normals_, s_, rings_, parts_.blend, gradients_);
-    smooth_gradients(normals_, parts_, options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing,
-                     gradients_, smoothing_);
-    have_gradients_ = true;
-}
-
-namespace {
-template <class T>
-std::size_t bytes(const std::vector<T>& v) {
-    return v.capacity() * sizeof(T);
-}
-}  // namespace
-
-std::size_t Deformation::state_bytes() const {
-    return bytes(positions_) + bytes(next_) + bytes(midpoints_) + bytes(normals_) + bytes(gradients_) +
-           bytes(input_order_) + bytes(smoothing_.gradients) + bytes(smoothing_.next) + bytes(smoothing_.normals) +
-           bytes(region_.s) + bytes(s_) + bytes(order_) + bytes(rings_.offsets) + bytes(rings_.neighbours) +
-           bytes(rings_.wedge) + bytes(parts_.blend) + bytes(parts_.inner) + bytes(parts_.blend_ring_offsets) +
-           bytes(parts_.blend_rings);
-}
-
-// Throws NumericalError at the first non-finite position among those the step moved.
-void Deformation::check_finite(const std::vector<Vec3>& candidate) const {
-    const auto check = [&](std::size_t v) {
-        const Vec3& p = candidate[v];
-        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) return;
-        const std::size_t input_vertex = order_.empty() ? v : order_[v];
-        throw NumericalError("integration step " + std::to_string(step_ms_.size() + 1) + " (t = " +
-                             std::to_string(time_) + ") made vertex " + std::to_string(input_vertex) +
-                             " non-finite; the mesh before that step is kept");
-    };
-    if (region_.sphere_tool) {
-        for (std::size_t v = 0; v < candidate.size(); ++v) check(v);
-        return;
-    }
-    for (const std::uint32_t v : parts_.inner) check(v);
-    for (const std::uint32_t v : parts_.blend) check(v);
+double Deformation::ms_per_step() const {
+    if (step_ms_.empty()) return 0.0;
+    std::vector<double> ms = step_ms_;
+    std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
+    return ms[ms.size() / 2];
 }
 
 }  // namespace vfsd

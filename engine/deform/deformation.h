@@ -3,25 +3,30 @@
 // toward a target time by fixed RK4 steps (sec. 5). Forward and backward both
 // work; the time grid is k / steps, so integrating back returns along it.
 //
-// Every step runs the four passes of deform/passes.h in order. The region is
-// either a surface field s (sec. 3, r = s) or the implicit sphere tool of [23].
+// Deformation is the one integrator: the time grid, the option checks, the
+// advance loop, the step timing and the finite check. A StepBackend takes the
+// steps: the CPU's passes (deform/cpu_steps.h, the readable reference) or their
+// GPU twins (gpu/gpu_deformation.h), which mirror them pass by pass.
 
+#include <memory>
 #include <optional>
 #include <vector>
 
+#include "base/error.h"
 #include "curve/inner_motion.h"
-#include "deform/local_frame.h"
 #include "deform/passes.h"
-#include "deform/volume_keeper.h"
-#include "field/stream_gauge.h"
 #include "mesh/vertex_rings.h"
 
 namespace vfsd {
 
+namespace gpu {
+class Texture;
+}
+
 struct DeformationOptions {
-    int steps = 250;               // RK4 steps from t = 0 to t = 1 (sec. 7.1: 200–300)
-    int smoothing_steps = 10;      // Laplacian steps on ∇r per integration step
-    double smoothing_weight = 0.5; // how far each step moves ∇r toward its ring mean
+    int steps = 250;                // RK4 steps from t = 0 to t = 1 (sec. 7.1: 200–300)
+    int smoothing_steps = 10;       // Laplacian steps on ∇r per integration step
+    double smoothing_weight = 0.5;  // how far each step moves ∇r toward its ring mean
     // Estimate normals and ∇r at the predicted middle of each step (second order)
     // rather than at its start as sec. 5 does (first order in time).
     bool gradients_at_midpoint = true;
@@ -31,6 +36,9 @@ struct DeformationOptions {
     bool tangent_smoothing = false;  // keep ∇r tangent while smoothing it (sec. 5) instead of smoothing it in space
     bool keep_volume = true;         // undo the scheme's volume drift after every step (deform/volume_keeper.h)
 };
+
+// Throws InputError when an option is out of range.
+void check_options(const DeformationOptions& options);
 
 // Whether the GPU passes (engine/gpu) take every step these options ask for: they
 // mirror sec. 5 with either smoothing, not the stream gauge fit or the volume keeper.
@@ -47,69 +55,71 @@ struct Region {
 };
 
 // The next time after `time` on the way to `target`: the neighbouring grid point
-// k / steps, or `target` itself when that comes first. Both backends step so.
+// k / steps, or `target` itself when that comes first.
 double next_time_on_grid(double time, double target, int steps);
+
+// The error a non-finite position raises: step `step` (counted from 1) from time
+// `time` made input vertex `vertex` non-finite.
+NumericalError nonfinite_position(std::size_t vertex, int step, double time);
+
+// Positions a backend keeps on the GPU, for a renderer to draw without a read-back.
+struct DeviceVertices {
+    const gpu::Texture* texture = nullptr;  // xyz relative to origin, w = s (gpu/texture_layout.h)
+    Vec3 origin{0.0};
+};
+
+// One backend's steps of sec. 5. Deformation calls step() with the times of its grid.
+class StepBackend {
+public:
+    virtual ~StepBackend() = default;
+    virtual const char* name() const = 0;  // "cpu" or "gpu"
+    // One RK4 step from `time` by `h` (negative: back), the `step`-th of the
+    // deformation. Throws nonfinite_position() when it can tell at once.
+    virtual void step(double time, double h, int step) = 0;
+    // The positions at the last step's end, in the input's vertex order.
+    virtual const std::vector<Vec3>& positions() const = 0;
+    // Whether step() returns before its work is done (the GPU's command queue):
+    // then steps are timed over finish(), and positions are checked when read.
+    virtual bool asynchronous() const { return false; }
+    // Waits until every step issued has been executed.
+    virtual void finish() const {}
+    virtual std::optional<DeviceVertices> device_vertices() const { return std::nullopt; }
+};
 
 class Deformation {
 public:
-    // Throws InputError when sizes disagree or options are out of range.
+    // Throws InputError when the options are out of range.
+    Deformation(std::unique_ptr<StepBackend> backend, DeformationOptions options);
+    // On the CPU (deform/cpu_steps.h); throws InputError when sizes disagree.
     Deformation(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
                 DeformationOptions options = {});
 
     // Integrates toward `target` (clamped to [0,1]) taking at most `max_steps`
     // steps; returns the number taken. Throws NumericalError naming the step and
-    // vertex if a position becomes non-finite (the positions before that step are kept).
+    // vertex if a position becomes non-finite (on the CPU the positions before
+    // that step are kept; the GPU's are checked when read).
     int advance(double target, int max_steps = 1 << 30);
 
     double time() const { return time_; }
-    // In the input's vertex order (the steps work in a breadth-first order).
+    // In the input's vertex order (the GPU reads them back once per advance).
     const std::vector<Vec3>& positions() const;
-    const Region& region() const { return region_; }
-    const InnerMotion& motion() const { return motion_; }
     const DeformationOptions& options() const { return options_; }
-    // Bytes held by the deformation state: positions, work arrays, s, rings, region parts.
-    std::size_t state_bytes() const;
-    // Wall time of every step taken so far, in milliseconds.
+    // Wall time of every step taken so far, in milliseconds (an asynchronous
+    // backend's advance() is timed whole, finish() included, and spread evenly).
     const std::vector<double>& step_milliseconds() const { return step_ms_; }
-    // The volume drift the keeper undid over all steps so far, in percent of the
-    // volume before (0 with keep_volume off or on an open surface): the error the
-    // field's discretisation alone would have left.
-    double volume_restored_percent() const;
+    // The median of step_milliseconds(): robust to a slow first step.
+    double ms_per_step() const;
+    const char* backend_name() const { return backend_->name(); }
+    void finish() const { backend_->finish(); }
+    std::optional<DeviceVertices> device_vertices() const { return backend_->device_vertices(); }
 
 private:
-    void step(double h);
-    void check_finite(const std::vector<Vec3>& candidate) const;
-    void estimate_surface_gradients(const std::vector<Vec3>& at);
-    GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
-
-    // positions_, rings_ and s_ are in the work order: vertex i is input vertex
-    // order_[i] (mesh/vertex_order.h); order_ is empty for the sphere tool.
-    // positions_ are in frame_'s local coordinates (deform/local_frame.h), the
-    // identity for the sphere tool; input_order_ holds the input's positions, of
-    // which positions() overwrites the moving ones, so the outer region is
-    // handed back bit for bit.
-    LocalFrame frame_;
-    std::vector<Vec3> positions_;
-    VertexRings rings_;
-    std::vector<std::uint32_t> order_;
-    std::vector<double> s_;
-    mutable std::vector<Vec3> input_order_;  // positions() for a work order
-    mutable bool input_order_current_ = false;
-    Region region_;
-    InnerMotion motion_;
+    std::unique_ptr<StepBackend> backend_;
     DeformationOptions options_;
     double time_ = 0.0;
-    // Per-step work arrays, sized once. The outer region never moves, so
-    // positions_, next_ and midpoints_ hold the same outer positions throughout.
-    RegionParts parts_;
-    std::vector<Vec3> normals_, gradients_, next_, midpoints_;
-    SmoothingScratch smoothing_;
-    bool have_gradients_ = false;  // gradients_ hold the last step's ∇r
+    int steps_taken_ = 0;
     std::vector<double> step_ms_;
-    std::vector<std::uint32_t> gauge_samples_;  // the blend vertices the stream's gauge is fitted to
-    std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
-    VolumeKeeper volume_;
-    double volume_restored_ = 0.0;  // Σ |drift undone|
+    mutable bool checked_ = true;  // positions() has been checked finite since the last advance
 };
 
 }  // namespace vfsd

@@ -461,8 +461,8 @@ void EditorSession::ensure_deformation() {
             reason = e.what();
         }
     }
-    if (!deformation_) deformation_ = make_cpu_deformation(*prepared_);
-    stats_.backend = deformation_->backend();
+    if (!deformation_) deformation_ = prepared_->start_deformation();
+    stats_.backend = deformation_->backend_name();
     stats_.backend_reason = stats_.backend == "gpu" ? "" : reason;
 }
 

@@ -11,18 +11,25 @@
 // deformation (the same prepare_scene, the same steps).
 
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "deform/deformation.h"
 #include "editor/edit_history.h"
-#include "editor/live_deformation.h"
 #include "editor/picking.h"
 #include "io/mesh_file.h"
 #include "region/boundary_cut.h"
+#include "scene/prepared_scene.h"
 #include "scene/scene_package.h"
 
 namespace vfsd::editor {
+
+// Makes a prepared scene's deformation from t = 0 on the GPU (gpu::start_gpu_deformation
+// in an application with a GL context); throws (GpuUnavailable, InputError) when it cannot.
+using DeformationFactory = std::function<Deformation(const PreparedScene&)>;
 
 struct SessionStats {
     std::size_t vertices = 0, triangles = 0;
@@ -121,7 +128,7 @@ public:
     const InnerMotion& motion() const { return motion_; }
     const std::string& mesh_name() const { return doc_.scene.mesh; }
     double diagonal() const { return diagonal_; }
-    const LiveDeformation* deformation() const { return deformation_.get(); }
+    const Deformation* deformation() const { return deformation_ ? &*deformation_ : nullptr; }
     // The surface under a ray at positions(): the editors' one way to pick it
     // (a SurfacePicker following mesh_revision() and positions_revision()).
     std::optional<SurfaceHit> pick_surface(const Ray& ray) const;
@@ -194,7 +201,7 @@ private:
     CurveSettings pending_curve_;
 
     std::unique_ptr<PreparedScene> prepared_;
-    std::unique_ptr<LiveDeformation> deformation_;
+    std::optional<Deformation> deformation_;
     double target_ = 0.0;
     SessionStats stats_;
     std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1, document_revision_ = 1;

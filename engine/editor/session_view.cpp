@@ -4,7 +4,6 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "editor/gpu_live_deformation.h"
 #include "gpu/gl.h"
 
 namespace vfsd::editor {
@@ -22,7 +21,8 @@ void SessionView::draw(const EditorSession& session, Camera& camera, const Viewp
         drawn_curve_ = session.curve_revision();
     }
     // The GPU path's vertex texture as it is; the CPU path's positions uploaded on change.
-    const auto* on_gpu = dynamic_cast<const GpuLiveDeformation*>(session.deformation());
+    const std::optional<DeviceVertices> on_gpu =
+        session.deformation() ? session.deformation()->device_vertices() : std::nullopt;
     if (!on_gpu && drawn_revision_ != session.revision()) {
         cpu_vertices_ = gpu::make_vertex_texture(session.positions(), session.s());
         drawn_revision_ = session.revision();
@@ -34,10 +34,10 @@ void SessionView::draw(const EditorSession& session, Camera& camera, const Viewp
     options.current_time = session.time();
     options.target_time = session.target_time();
     options.wireframe = wireframe;
-    if (on_gpu) options.vertex_origin = on_gpu->vertex_origin();
+    if (on_gpu) options.vertex_origin = on_gpu->origin;
     options.highlight = &session.folded_triangles();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    renderer_->draw(on_gpu ? on_gpu->vertex_texture() : *cpu_vertices_, glm::value_ptr(view),
+    renderer_->draw(on_gpu ? *on_gpu->texture : *cpu_vertices_, glm::value_ptr(view),
                     glm::value_ptr(projection), 0.018 * session.diagonal(), viewport.width, viewport.height, options);
 }
 

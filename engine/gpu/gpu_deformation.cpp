@@ -1,13 +1,12 @@
 #include "gpu/gpu_deformation.h"
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <string>
 
 #include "base/error.h"
+#include "gpu/gl.h"
 #include "gpu/gpu_error.h"
+#include "gpu/gpu_passes.h"
 #include "mesh/geometry.h"
 
 namespace vfsd::gpu {
@@ -15,8 +14,9 @@ namespace {
 
 const std::vector<double>& checked_s(const Region& region, std::size_t vertex_count) {
     if (region.sphere_tool)
-        throw GpuUnavailable("the GPU path takes a surface field s; the implicit sphere tool runs on the CPU "
-                             "(--backend cpu)");
+        throw GpuUnavailable(
+            "the GPU path takes a surface field s; the implicit sphere tool runs on the CPU "
+            "(--backend cpu)");
     if (region.s.size() != vertex_count)
         throw InputError("region: " + std::to_string(region.s.size()) + " values of s for " +
                          std::to_string(vertex_count) + " vertices");
@@ -41,68 +41,71 @@ const std::vector<Vec3>& checked_size(const std::vector<Vec3>& positions) {
     return positions;
 }
 
+// The step of CpuSteps::step, pass for pass, without read-back.
+class GpuSteps final : public StepBackend {
+public:
+    GpuSteps(const std::vector<Vec3>& positions, const VertexRings& rings, const Region& region, InnerMotion motion,
+             DeformationOptions options)
+        : motion_(std::move(motion)),
+          options_(options),
+          passes_(checked_size(positions), checked_s(region, positions.size()), rings) {
+        if (!gpu_mirrors(options_)) throw GpuUnavailable(kGpuUnmirroredReason);
+    }
+
+    const char* name() const override { return "gpu"; }
+    bool asynchronous() const override { return true; }
+    void finish() const override { glFinish(); }
+    std::optional<DeviceVertices> device_vertices() const override {
+        return DeviceVertices{&passes_.vertex_texture(), passes_.vertex_origin()};
+    }
+
+    void step(double time, double h, int) override {
+        const StepMotion motion = StepMotion::sample(motion_, time, h);
+        if (options_.gradients_at_midpoint) {
+            if (!have_gradients_) estimate_surface_gradients(At::positions);
+            passes_.predict_midpoints(motion.start, h);
+            estimate_surface_gradients(At::midpoints);
+        } else {
+            estimate_surface_gradients(At::positions);
+        }
+        passes_.deformation_step(motion);
+        positions_valid_ = false;
+    }
+
+    const std::vector<Vec3>& positions() const override {
+        if (!positions_valid_) positions_ = passes_.read_positions();
+        positions_valid_ = true;
+        return positions_;
+    }
+
+private:
+    // Normal, gradient (eq. 6) and smoothing passes on the positions or midpoints.
+    void estimate_surface_gradients(At at) {
+        passes_.estimate_normals(at);
+        passes_.estimate_gradients(at);
+        passes_.smooth_gradients(options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing);
+        have_gradients_ = true;
+    }
+
+    InnerMotion motion_;
+    DeformationOptions options_;
+    GpuPasses passes_;
+    bool have_gradients_ = false;
+    mutable std::vector<Vec3> positions_;
+    mutable bool positions_valid_ = false;
+};
+
 }  // namespace
 
-GpuDeformation::GpuDeformation(const std::vector<Vec3>& positions, const VertexRings& rings, Region region,
-                               InnerMotion motion, DeformationOptions options)
-    : region_(std::move(region)),
-      motion_(std::move(motion)),
-      options_(options),
-      passes_(checked_size(positions), checked_s(region_, positions.size()), rings) {
-    if (options_.steps < 1) throw InputError("steps must be at least 1");
-    if (options_.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
-    if (!gpu_mirrors(options_)) throw GpuUnavailable(kGpuUnmirroredReason);
+Deformation make_gpu_deformation(const std::vector<Vec3>& positions, const VertexRings& rings, Region region,
+                                 InnerMotion motion, DeformationOptions options) {
+    check_options(options);
+    return Deformation(std::make_unique<GpuSteps>(positions, rings, region, std::move(motion), options), options);
 }
 
-int GpuDeformation::advance(double target, int max_steps) {
-    target = std::clamp(target, 0.0, 1.0);
-    int taken = 0;
-    while (taken < max_steps && time_ != target) {
-        const double next = next_time_on_grid(time_, target, options_.steps);  // the CPU's grid walk
-        step(next - time_);
-        time_ = next;
-        ++taken;
-    }
-    if (taken > 0) positions_valid_ = false;
-    return taken;
+Deformation start_gpu_deformation(const PreparedScene& scene) {
+    return make_gpu_deformation(scene.file.mesh.positions, scene.rings, scene.region, scene.motion,
+                                scene.scene.options);
 }
-
-// The step of Deformation::step, pass for pass, without read-back.
-void GpuDeformation::step(double h) {
-    const auto start = std::chrono::steady_clock::now();
-    const StepMotion motion = StepMotion::sample(motion_, time_, h);
-    if (options_.gradients_at_midpoint) {
-        if (!have_gradients_) estimate_surface_gradients(At::positions);
-        passes_.predict_midpoints(motion.start, h);
-        estimate_surface_gradients(At::midpoints);
-    } else {
-        estimate_surface_gradients(At::positions);
-    }
-    passes_.deformation_step(motion);
-    step_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-}
-
-// Normal, gradient (eq. 6) and smoothing passes on the positions or midpoints.
-void GpuDeformation::estimate_surface_gradients(At at) {
-    passes_.estimate_normals(at);
-    passes_.estimate_gradients(at);
-    passes_.smooth_gradients(options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing);
-    have_gradients_ = true;
-}
-
-const std::vector<Vec3>& GpuDeformation::positions() const {
-    if (positions_valid_) return positions_;
-    positions_ = passes_.read_positions();
-    positions_valid_ = true;
-    for (std::size_t v = 0; v < positions_.size(); ++v) {
-        const Vec3& p = positions_[v];
-        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) continue;
-        throw NumericalError("GPU integration made vertex " + std::to_string(v) + " non-finite by t = " +
-                             std::to_string(time_));
-    }
-    return positions_;
-}
-
-void GpuDeformation::finish() const { glFinish(); }
 
 }  // namespace vfsd::gpu

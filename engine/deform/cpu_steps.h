@@ -1,0 +1,67 @@
+#pragma once
+// The CPU's steps of a deformation (sec. 5), the readable reference the GPU's
+// passes mirror: every step runs the four passes of deform/passes.h in order.
+// The region is either a surface field s (sec. 3, r = s) or the implicit sphere
+// tool of [23]. Deformation (deform/deformation.h) walks the time grid over it.
+
+#include <vector>
+
+#include "deform/deformation.h"
+#include "deform/local_frame.h"
+#include "deform/passes.h"
+#include "deform/volume_keeper.h"
+#include "field/stream_gauge.h"
+
+namespace vfsd {
+
+class CpuSteps final : public StepBackend {
+public:
+    // Throws InputError when sizes disagree.
+    CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
+             DeformationOptions options);
+
+    const char* name() const override { return "cpu"; }
+    void step(double time, double h, int step) override;
+    const std::vector<Vec3>& positions() const override;
+
+    // Bytes held by the deformation state: positions, work arrays, s, rings, region parts.
+    std::size_t state_bytes() const;
+    // The volume drift the keeper undid over all steps so far, in percent of the
+    // volume before (0 with keep_volume off or on an open surface): the error the
+    // field's discretisation alone would have left.
+    double volume_restored_percent() const;
+
+private:
+    void check_finite(const std::vector<Vec3>& candidate, int step, double time) const;
+    void estimate_surface_gradients(const std::vector<Vec3>& at);
+    GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
+
+    // positions_, rings_ and s_ are in the work order: vertex i is input vertex
+    // order_[i] (mesh/vertex_order.h); order_ is empty for the sphere tool.
+    // positions_ are in frame_'s local coordinates (deform/local_frame.h), the
+    // identity for the sphere tool; input_order_ holds the input's positions, of
+    // which positions() overwrites the moving ones, so the outer region is
+    // handed back bit for bit.
+    LocalFrame frame_;
+    std::vector<Vec3> positions_;
+    VertexRings rings_;
+    std::vector<std::uint32_t> order_;
+    std::vector<double> s_;
+    mutable std::vector<Vec3> input_order_;  // positions() for a work order
+    mutable bool input_order_current_ = false;
+    Region region_;
+    InnerMotion motion_;
+    DeformationOptions options_;
+    // Per-step work arrays, sized once. The outer region never moves, so
+    // positions_, next_ and midpoints_ hold the same outer positions throughout.
+    RegionParts parts_;
+    std::vector<Vec3> normals_, gradients_, next_, midpoints_;
+    SmoothingScratch smoothing_;
+    bool have_gradients_ = false;               // gradients_ hold the last step's ∇r
+    std::vector<std::uint32_t> gauge_samples_;  // the blend vertices the stream's gauge is fitted to
+    std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
+    VolumeKeeper volume_;
+    double volume_restored_ = 0.0;  // Σ |drift undone|
+};
+
+}  // namespace vfsd
