@@ -21,7 +21,8 @@
 #include "cli/commands.h"
 #include "deform/quality.h"
 #include "gpu/context.h"
-#include "gpu/renderer.h"
+#include "io/png.h"
+#include "render/renderer.h"
 #include "mesh/geometry.h"
 #include "scene/battery.h"
 #include "scene/framing.h"
@@ -111,15 +112,16 @@ void write_worst(const std::filesystem::path& dir, int rank, const Outcome& o) {
     try {
         const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();
         const PreparedScene prepared = prepare_scene(o.battery.scene, o.battery.mesh);
-        const gpu::Camera camera = gpu::Camera::framing(
-            deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion));
-        const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
-        gpu::RenderOptions options;
-        options.current_time = options.target_time = prepared.scene.target_time;
-        const gpu::Texture vertices = gpu::make_vertex_texture(o.result, prepared.region.s);
         const int width = 640, height = 480;
-        gpu::write_png((dir / (stem + ".png")).string(), width, height,
-                       gpu::render_image(renderer, vertices, camera, width, height, options));
+        const Camera camera = Camera::framing(
+            deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion),
+            double(width) / height);
+        const render::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
+        render::RenderOptions options;
+        options.current_time = options.target_time = prepared.scene.target_time;
+        const gpu::Texture vertices = render::make_vertex_texture(o.result, prepared.region.s);
+        write_png((dir / (stem + ".png")).string(), width, height,
+                  render::render_image(renderer, vertices, camera, width, height, options));
     } catch (const vfsd::Error& e) {
         std::fprintf(stderr, "battery: no picture of %s: %s\n", o.battery.name.c_str(), e.what());
     }

@@ -17,7 +17,8 @@
 #include "scene/framing.h"
 #include "gpu/context.h"
 #include "gpu/gpu_deformation.h"
-#include "gpu/renderer.h"
+#include "io/png.h"
+#include "render/renderer.h"
 #include "scene/prepared_scene.h"
 
 namespace vfsd::cli {
@@ -74,18 +75,20 @@ int run_render(const Args& args) {
     const auto& start = prepared.file.mesh.positions;
 
     // The camera frames the whole deformation, so frames of one scene at any time line up.
-    gpu::Camera camera = gpu::Camera::framing(deformation_frame_points(start, prepared.region.s, prepared.motion));
+    Camera camera = Camera::framing(deformation_frame_points(start, prepared.region.s, prepared.motion),
+                                    double(width) / double(height));
     const std::string up = args.get("up", "z");
     if (up != "y" && up != "z") throw UsageError("--up must be 'y' or 'z'");
+    camera.up_axis = up_axis_named(up);
     try {
-        camera.look_from(args.get("view", "iso"), up[0]);
+        camera.set_view(standard_view_named(args.get("view", "iso")));
     } catch (const vfsd::InputError& e) {
         throw UsageError(std::string("--view: ") + e.what());
     }
-    if (args.has("target")) camera.centre = parse_point(args.get("target"));
-    camera.radius /= zoom;
-    const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
-    gpu::RenderOptions options;
+    if (args.has("target")) camera.target = parse_point(args.get("target"));
+    camera.distance /= zoom;
+    const render::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
+    render::RenderOptions options;
     options.current_time = time;
     options.target_time = scene.target_time;
     options.wireframe = args.has("wireframe");
@@ -101,10 +104,10 @@ int run_render(const Args& args) {
     if (on_gpu)
         options.vertex_origin = on_gpu->origin;
     else
-        uploaded = gpu::make_vertex_texture(deformation.positions(), prepared.region.s);
+        uploaded = render::make_vertex_texture(deformation.positions(), prepared.region.s);
     const std::vector<std::uint8_t> image =
-        gpu::render_image(renderer, on_gpu ? *on_gpu->texture : *uploaded, camera, width, height, options);
-    gpu::write_png(out, width, height, image);
+        render::render_image(renderer, on_gpu ? *on_gpu->texture : *uploaded, camera, width, height, options);
+    write_png(out, width, height, image);
     std::printf("%s: %dx%d, t = %g, %s (%s: %s)\n", out.c_str(), width, height, time, backend.c_str(),
                 context->kind().c_str(), context->renderer().c_str());
     return kExitOk;

@@ -14,6 +14,7 @@
 #include "gpu/capabilities.h"
 #include "gpu/context.h"
 #include "gpu/gl.h"
+#include "io/png.h"
 
 namespace vfsd::desktop {
 namespace {
@@ -99,7 +100,7 @@ App::~App() {
 }
 
 // The framebuffer's size in pixels (on HiDPI screens larger than the window's).
-editor::Viewport App::viewport() const {
+Viewport App::viewport() const {
     int size[2] = {1, 1};
     glfwGetFramebufferSize(window_, &size[0], &size[1]);
     return {std::max(size[0], 1), std::max(size[1], 1)};
@@ -144,7 +145,7 @@ void App::point_at(double x, double y) { scripted_pointer_ = std::make_pair(x, y
 void App::log_frame_times(int frames) { frame_log_.start(frames); }
 
 void App::save_screenshot(const std::string& path) const {
-    const editor::Viewport v = viewport();
+    const Viewport v = viewport();
     std::vector<std::uint8_t> pixels(std::size_t(v.width) * v.height * 4), flipped(pixels.size());
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadBuffer(GL_BACK);
@@ -153,14 +154,14 @@ void App::save_screenshot(const std::string& path) const {
     for (int y = 0; y < v.height; ++y)
         std::copy_n(&pixels[std::size_t(v.height - 1 - y) * row], row, &flipped[std::size_t(y) * row]);
     for (std::size_t i = 3; i < flipped.size(); i += 4) flipped[i] = 255;
-    gpu::write_png(path, v.width, v.height, flipped);
+    write_png(path, v.width, v.height, flipped);
 }
 
 // ---- input -------------------------------------------------------------------------
 
 glm::dvec2 App::pointer() const {
     const ImGuiIO& io = ImGui::GetIO();
-    const editor::Viewport v = viewport();
+    const Viewport v = viewport();
     int window_w = 1, window_h = 1;
     glfwGetWindowSize(window_, &window_w, &window_h);
     return {io.MousePos.x * v.width / std::max(window_w, 1), io.MousePos.y * v.height / std::max(window_h, 1)};

@@ -38,7 +38,7 @@ public:
     int run();
 
     // editor::Shell
-    editor::Viewport viewport() const override;
+    Viewport viewport() const override;
     void log(const std::string& line) override;
     void screenshot(const std::string& path, bool ui) override;
     void simulate_crash() override;

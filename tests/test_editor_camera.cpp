@@ -7,12 +7,12 @@
 
 #include <glm/trigonometric.hpp>
 
-#include "editor/camera.h"
 #include "editor/frame_log.h"
 #include "editor/picking.h"
 #include "editor/script.h"
 #include "editor/session.h"
 #include "io/mesh_file.h"
+#include "view/camera.h"
 
 using namespace vfsd;
 using namespace vfsd::editor;
@@ -99,6 +99,40 @@ TEST_CASE("Camera: standard views and orbit", "[editor][camera]") {
     camera.orbit(100.0, 40.0);
     CHECK(camera.target == target);
     CHECK(glm::length(camera.eye() - target) == Approx(camera.distance));
+}
+
+TEST_CASE("Camera: every named view, with z or y up, centres the target with the up axis up on the screen",
+          "[editor][camera][render]") {
+    const Viewport viewport{400, 300};
+    for (const char* up_name : {"z", "y"}) {
+        const Vec3 up = up_name[0] == 'z' ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
+        for (const char* side : {"front", "back", "right", "left", "top", "bottom", "iso"}) {
+            INFO(side << ", " << up_name << " up");
+            Camera camera = Camera::framing({Vec3(1.0, -4.0, 3.0), Vec3(5.0, 0.0, 7.0)}, viewport.aspect());
+            camera.up_axis = up_axis_named(up_name);
+            camera.set_view(standard_view_named(side));
+            const glm::dvec3 centre = camera.project(camera.target, viewport);
+            CHECK(std::abs(centre.x - 199.5) < 1e-6);  // the middle pixel
+            CHECK(std::abs(centre.y - 149.5) < 1e-6);
+            CHECK(glm::length(camera.world_up() - up) < 1e-12);
+            // The up axis points up on the screen (rows grow downward), except
+            // when looking along it.
+            if (std::abs(glm::dot(camera.forward(), up)) < 0.99)
+                CHECK(camera.project(camera.target + 0.1 * camera.distance * up, viewport).y < centre.y - 1.0);
+            // The mapping is a rotation: the same view with z up, turned.
+            Camera z_up = camera;
+            z_up.up_axis = UpAxis::z;
+            const Vec3 d = z_up.eye() - z_up.target;
+            const Vec3 turned = up_name[0] == 'z' ? d : Vec3(d.x, d.z, -d.y);
+            CHECK(glm::length(camera.eye() - camera.target - turned) < 1e-9 * camera.distance);
+        }
+        Camera front;
+        front.up_axis = up_axis_named(up_name);
+        front.set_view(StandardView::front);
+        CHECK(glm::length(-front.forward() - (up_name[0] == 'z' ? Vec3(0, -1, 0) : Vec3(0, 0, 1))) < 1e-12);
+    }
+    CHECK_THROWS_WITH(standard_view_named("side"), Catch::Contains("unknown view 'side'"));
+    CHECK_THROWS_WITH(up_axis_named("x"), Catch::Contains("up axis"));
 }
 
 TEST_CASE("drag_point: screen-plane drags land under the cursor, axis drags move one coordinate", "[editor][camera]") {

@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "editor/camera.h"
+#include "view/camera.h"
 #include "editor/script.h"
 #include "editor/session.h"
 #include "editor/tools.h"

@@ -14,7 +14,7 @@
 #include "deform/quality.h"
 #include "gpu/gl_objects.h"
 #include "gpu/gpu_deformation.h"
-#include "gpu/renderer.h"
+#include "render/renderer.h"
 #include "scene/framing.h"
 #include "scene/prepared_scene.h"
 #include "test_fold_support.h"
@@ -50,16 +50,16 @@ TEST_CASE("Rendered scene shows s = 0 in blue and s = 1 in red", "[gpu][render]"
     scene.options = gpu_mirrored(scene.options);
     const PreparedScene prepared = prepare_scene(scene);
     const auto& start = prepared.file.mesh.positions;
-    const gpu::Camera camera = gpu::Camera::framing(deformation_frame_points(start, prepared.region.s, prepared.motion));
-    const gpu::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
+    const Camera camera = Camera::framing(deformation_frame_points(start, prepared.region.s, prepared.motion), 160.0 / 120);
+    const render::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
     Deformation deformation = gpu::make_gpu_deformation(start, prepared.rings, prepared.region, prepared.motion, scene.options);
     for (double t : {0.0, 1.0}) {
         deformation.advance(t);
-        gpu::RenderOptions options;
+        render::RenderOptions options;
         options.current_time = t;
         options.vertex_origin = deformation.device_vertices()->origin;
         const std::vector<std::uint8_t> image =
-            gpu::render_image(renderer, *deformation.device_vertices()->texture, camera, 160, 120, options);
+            render::render_image(renderer, *deformation.device_vertices()->texture, camera, 160, 120, options);
         REQUIRE(image.size() == 160u * 120u * 4u);
         const PixelCounts c = count_pixels(image);
         INFO("t = " << t << ": " << c.blue << " blue, " << c.red << " red, " << c.background << " background pixels");
@@ -78,21 +78,21 @@ TEST_CASE("Folded triangles are drawn in magenta when asked for", "[gpu][render]
     const std::vector<std::uint32_t> folded =
         flipped_triangle_list(prepared.file.mesh.positions, deformation.positions(), triangles);
     REQUIRE(!folded.empty());
-    const gpu::Camera camera =
-        gpu::Camera::framing(deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion));
-    const gpu::Renderer renderer(triangles, prepared.motion);
-    const gpu::Texture vertices = gpu::make_vertex_texture(deformation.positions(), prepared.region.s);
+    const Camera camera = Camera::framing(
+        deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion), 320.0 / 240);
+    const render::Renderer renderer(triangles, prepared.motion);
+    const gpu::Texture vertices = render::make_vertex_texture(deformation.positions(), prepared.region.s);
     const auto magenta = [](const std::vector<std::uint8_t>& rgba) {
         int n = 0;
         for (std::size_t i = 0; i + 3 < rgba.size(); i += 4)
             n += rgba[i] > 200 && rgba[i + 1] < 80 && rgba[i + 2] > 190;
         return n;
     };
-    gpu::RenderOptions options;
+    render::RenderOptions options;
     options.current_time = 1.0;
-    CHECK(magenta(gpu::render_image(renderer, vertices, camera, 320, 240, options)) == 0);
+    CHECK(magenta(render::render_image(renderer, vertices, camera, 320, 240, options)) == 0);
     options.highlight = &folded;
-    const int shown = magenta(gpu::render_image(renderer, vertices, camera, 320, 240, options));
+    const int shown = magenta(render::render_image(renderer, vertices, camera, 320, 240, options));
     INFO(folded.size() << " folded triangles, " << shown << " magenta pixels");
     CHECK(shown > 0);
 }
@@ -120,35 +120,6 @@ TEST_CASE("vfsd render and vfsd deform --backend gpu run headless", "[gpu][rende
     CHECK(json["steps"] == 20);
     CHECK(json["stream_gauge"] == "paper");  // what the GPU ran, said
     std::filesystem::remove_all(dir);
-}
-
-TEST_CASE("render views: each side looks at the centre with the chosen axis up on the screen", "[gpu][render]") {
-    // No GL needed: the camera's matrices alone.
-    const auto clip = [](const gpu::Camera& camera, const Vec3& p) {
-        float view[16], projection[16];
-        camera.matrices(1.0, view, projection);
-        const glm::vec4 c = glm::make_mat4(projection) * glm::make_mat4(view) * glm::vec4(glm::vec3(p), 1.0f);
-        return glm::dvec3(c) / double(c.w);
-    };
-    for (const char up_axis : {'z', 'y'}) {
-        const Vec3 up = up_axis == 'z' ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
-        for (const char* side : {"front", "back", "right", "left", "top", "bottom", "iso"}) {
-            gpu::Camera camera;
-            camera.centre = Vec3(3.0, -2.0, 5.0);
-            camera.radius = 2.0;
-            camera.look_from(side, up_axis);
-            INFO(side << ", " << up_axis << " up");
-            CHECK(glm::length(glm::dvec2(clip(camera, camera.centre))) < 1e-5);  // the centre in the middle of the image
-            const bool along_up = std::abs(glm::dot(camera.direction, up)) > 0.99;
-            if (!along_up) CHECK(clip(camera, camera.centre + up)[1] > 0.1);  // up is up on the screen
-        }
-        gpu::Camera front;
-        front.look_from("front", up_axis);
-        CHECK(glm::length(front.direction - (up_axis == 'z' ? Vec3(0, -1, 0) : Vec3(0, 0, 1))) < 1e-12);
-    }
-    gpu::Camera camera;
-    CHECK_THROWS_WITH(camera.look_from("side", 'z'), Catch::Contains("unknown view 'side'"));
-    CHECK_THROWS_WITH(camera.look_from("front", 'x'), Catch::Contains("up axis"));
 }
 
 TEST_CASE("vfsd render refuses an unknown view, a bad zoom or target with exit code 2", "[gpu][render][cli]") {

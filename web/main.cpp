@@ -105,7 +105,7 @@ public:
     const std::vector<double>& array_data() const { return array_; }
 
     // editor::Shell
-    editor::Viewport viewport() const override;
+    Viewport viewport() const override;
     void log(const std::string& line) override { std::printf("%s\n", line.c_str()); }
     void screenshot(const std::string&, bool) override { log("script: screenshots are the page's (canvas)"); }
     void autosaved() override { vfsd_page_autosaved(); }
@@ -175,7 +175,7 @@ void App::init_gl() {
     }
 }
 
-editor::Viewport App::viewport() const {
+Viewport App::viewport() const {
     int w = 1, h = 1;
     emscripten_get_canvas_element_size(kCanvas, &w, &h);
     return {std::max(w, 1), std::max(h, 1)};

@@ -333,14 +333,11 @@ bool play_pause(const CommandArgs&, CommandContext& c) {
 }
 
 bool view(const CommandArgs& a, CommandContext& c) {
-    static const std::pair<const char*, StandardView> kViews[] = {
-        {"front", StandardView::front}, {"back", StandardView::back},     {"left", StandardView::left},
-        {"right", StandardView::right}, {"top", StandardView::top},       {"bottom", StandardView::bottom},
-        {"iso", StandardView::iso}};
     const std::string name = a.text("name");
-    if (name == "frame") c.host.loaded();
-    for (const auto& [n, v] : kViews)
-        if (name == n) c.camera.set_view(v);
+    if (name == "frame")
+        c.host.loaded();
+    else
+        c.camera.set_view(standard_view_named(name));
     return true;
 }
 

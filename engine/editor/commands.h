@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "editor/camera.h"
+#include "view/camera.h"
 #include "editor/session.h"
 #include "editor/tools.h"
 

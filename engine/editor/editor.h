@@ -16,7 +16,7 @@
 
 #include "base/error.h"
 #include "editor/autosave.h"
-#include "editor/camera.h"
+#include "view/camera.h"
 #include "editor/commands.h"
 #include "editor/handle_gizmo.h"
 #include "editor/script.h"

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "curve/handle.h"
-#include "editor/camera.h"
+#include "view/camera.h"
 
 namespace vfsd::editor {
 

@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-#include "editor/camera.h"
+#include "view/camera.h"
 #include "mesh/triangle_bvh.h"
 #include "region/surface_point.h"
 

@@ -11,7 +11,7 @@ namespace vfsd::editor {
 void SessionView::draw(const EditorSession& session, Camera& camera, const Viewport& viewport) {
     // The renderer follows the mesh and the curve.
     if (!renderer_ || drawn_mesh_ != session.mesh_revision()) {
-        renderer_ = std::make_unique<gpu::Renderer>(session.triangles(), session.motion());
+        renderer_ = std::make_unique<render::Renderer>(session.triangles(), session.motion());
         drawn_mesh_ = session.mesh_revision();
         drawn_curve_ = session.curve_revision();
         drawn_revision_ = 0;
@@ -24,13 +24,13 @@ void SessionView::draw(const EditorSession& session, Camera& camera, const Viewp
     const std::optional<DeviceVertices> on_gpu =
         session.deformation() ? session.deformation()->device_vertices() : std::nullopt;
     if (!on_gpu && drawn_revision_ != session.revision()) {
-        cpu_vertices_ = gpu::make_vertex_texture(session.positions(), session.s());
+        cpu_vertices_ = render::make_vertex_texture(session.positions(), session.s());
         drawn_revision_ = session.revision();
     }
     if (on_gpu) drawn_revision_ = 0;
     camera.scene_radius = std::max(camera.scene_radius, 0.5 * session.diagonal());
     const glm::mat4 view(camera.view()), projection(camera.projection(viewport.aspect()));
-    gpu::RenderOptions options;
+    render::RenderOptions options;
     options.current_time = session.time();
     options.target_time = session.target_time();
     options.wireframe = wireframe;

@@ -10,9 +10,9 @@
 #include <memory>
 #include <optional>
 
-#include "editor/camera.h"
+#include "view/camera.h"
 #include "editor/session.h"
-#include "gpu/renderer.h"
+#include "render/renderer.h"
 
 namespace vfsd::editor {
 
@@ -26,7 +26,7 @@ public:
     void reset();
 
 private:
-    std::unique_ptr<gpu::Renderer> renderer_;
+    std::unique_ptr<render::Renderer> renderer_;
     std::optional<gpu::Texture> cpu_vertices_;
     std::uint64_t drawn_mesh_ = 0, drawn_curve_ = 0, drawn_revision_ = 0;
 };

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "editor/camera.h"
+#include "view/camera.h"
 #include "editor/handle_gizmo.h"
 #include "editor/picking.h"
 #include "editor/session.h"

@@ -1,4 +1,4 @@
-#include "gpu/renderer.h"
+#include "render/renderer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,14 +11,17 @@
 #include "base/error.h"
 #include "gpu/capabilities.h"
 #include "gpu/texture_layout.h"
-#include "io/mesh_file.h"
 #include "mesh/builtin_meshes.h"
 
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#define STBI_WRITE_NO_STDIO
-#include <stb_image_write.h>
+namespace vfsd::render {
 
-namespace vfsd::gpu {
+using gpu::Buffer;
+using gpu::check_gl;
+using gpu::Framebuffer;
+using gpu::Texture;
+using gpu::TextureLayout;
+using gpu::VertexArray;
+
 namespace {
 
 constexpr int kCurveSamples = 256;
@@ -51,51 +54,6 @@ void bind_points(const VertexArray& vao, const Buffer& points, const Buffer* ind
 }
 
 }  // namespace
-
-Camera Camera::framing(const std::vector<Vec3>& points) {
-    Camera camera;
-    if (points.empty()) return camera;
-    Vec3 lo = points.front(), hi = points.front();
-    for (const Vec3& p : points) lo = glm::min(lo, p), hi = glm::max(hi, p);
-    camera.centre = 0.5 * (lo + hi);
-    camera.radius = 0.0;
-    for (const Vec3& p : points) camera.radius = std::max(camera.radius, glm::length(p - camera.centre));
-    if (camera.radius == 0.0) camera.radius = 1.0;
-    return camera;
-}
-
-void Camera::look_from(const std::string& view, char up_axis) {
-    // Directions with z up, as the editors' standard views (editor/camera.h).
-    struct Side {
-        const char* name;
-        Vec3 direction, up;
-    };
-    const Side sides[] = {{"front", {0, -1, 0}, {0, 0, 1}},  {"back", {0, 1, 0}, {0, 0, 1}},
-                          {"right", {1, 0, 0}, {0, 0, 1}},   {"left", {-1, 0, 0}, {0, 0, 1}},
-                          {"top", {0, 0, 1}, {0, 1, 0}},     {"bottom", {0, 0, -1}, {0, -1, 0}},
-                          {"iso", glm::normalize(Vec3(1.0, -1.6, 0.9)), {0, 0, 1}}};
-    if (up_axis != 'z' && up_axis != 'y') throw InputError("up axis must be 'y' or 'z'");
-    // y up: the z-up frame turned so that its z becomes y: (x, y, z) -> (x, z, −y).
-    const auto world = [&](const Vec3& v) { return up_axis == 'z' ? v : Vec3(v.x, v.z, -v.y); };
-    for (const Side& side : sides) {
-        if (view != side.name) continue;
-        direction = world(side.direction);
-        up = world(side.up);
-        return;
-    }
-    throw InputError("unknown view '" + view + "' (front, back, right, left, top, bottom or iso)");
-}
-
-void Camera::matrices(double aspect, float view[16], float projection[16]) const {
-    const double half_fov = glm::radians(0.5 * fov_degrees);
-    // Far enough that the bounding sphere fits the narrower side of the image.
-    const double distance = 1.05 * radius / std::sin(half_fov * std::min(1.0, aspect));
-    const glm::mat4 v = glm::lookAt(glm::vec3(centre + distance * direction), glm::vec3(centre), glm::vec3(up));
-    const glm::mat4 p = glm::perspective(float(2.0 * half_fov), float(aspect), float(0.05 * distance),
-                                         float(distance + 2.0 * radius));
-    std::copy_n(glm::value_ptr(v), 16, view);
-    std::copy_n(glm::value_ptr(p), 16, projection);
-}
 
 Renderer::Renderer(const std::vector<Triangle>& triangles, InnerMotion motion)
     : motion_(std::move(motion)),
@@ -139,9 +97,9 @@ void Renderer::set_motion(InnerMotion motion) {
 
 void Renderer::draw(const Texture& vertex_texture, const Camera& camera, int width, int height,
                     const RenderOptions& options) const {
-    float view[16], projection[16];
-    camera.matrices(double(width) / double(height), view, projection);
-    draw(vertex_texture, view, projection, 0.035 * camera.radius, width, height, options);
+    const glm::mat4 view(camera.view()), projection(camera.projection(double(width) / double(height)));
+    draw(vertex_texture, glm::value_ptr(view), glm::value_ptr(projection), 0.035 * camera.scene_radius, width, height,
+         options);
 }
 
 void Renderer::draw(const Texture& vertex_texture, const float view[16], const float projection[16],
@@ -218,7 +176,7 @@ void Renderer::draw(const Texture& vertex_texture, const float view[16], const f
 }
 
 Texture make_vertex_texture(const std::vector<Vec3>& positions, const std::vector<double>& s) {
-    const TextureLayout layout = TextureLayout::for_count(positions.size(), query_capabilities().max_texture_size);
+    const TextureLayout layout = TextureLayout::for_count(positions.size(), gpu::query_capabilities().max_texture_size);
     std::vector<float> data(layout.texels() * 4, 0.0f);
     for (std::size_t v = 0; v < positions.size(); ++v) {
         data[4 * v] = float(positions[v].x);
@@ -254,12 +212,4 @@ std::vector<std::uint8_t> render_image(const Renderer& renderer, const Texture& 
     return image;
 }
 
-void write_png(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgba) {
-    std::string bytes;
-    stbi_write_png_to_func(
-        [](void* context, void* data, int size) { static_cast<std::string*>(context)->append(static_cast<char*>(data), size); },
-        &bytes, width, height, 4, rgba.data(), width * 4);
-    write_file_atomically(path, bytes);
-}
-
-}  // namespace vfsd::gpu
+}  // namespace vfsd::render

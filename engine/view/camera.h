@@ -1,17 +1,19 @@
 #pragma once
-// The editor's camera: orbit about a target point, pan, zoom toward the cursor,
-// frame a set of points, and the standard views of modelling tools (z up). It
-// gives the view and projection matrices the renderer draws with and the ray under
-// a screen point that picking follows. Screen coordinates are pixels with the
-// origin at the top left, as windows and browsers report the pointer.
+// The one camera: orbit about a target point, pan, zoom toward the cursor, frame
+// a set of points, and the standard views of modelling tools, with z or y up. It
+// gives the view and projection matrices the renderer draws with (the editors'
+// view, `vfsd render`'s images) and the ray under a screen point that picking
+// follows. Screen coordinates are pixels with the origin at the top left, as
+// windows and browsers report the pointer.
 
+#include <string>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
 
 #include "mesh/ray_cast.h"  // Ray
 
-namespace vfsd::editor {
+namespace vfsd {
 
 struct Viewport {
     int width = 1;
@@ -20,6 +22,16 @@ struct Viewport {
 };
 
 enum class StandardView { front, back, left, right, top, bottom, iso };
+// "front", "back", "left", "right", "top", "bottom" or "iso"; throws InputError
+// naming them for another name.
+StandardView standard_view_named(const std::string& name);
+
+// Which world axis is up on the screen. With z up (the default) front looks from
+// −y; with y up the same views are turned so that z becomes y: (x, y, z) →
+// (x, z, −y), and front looks from +z.
+enum class UpAxis { z, y };
+// "z" or "y"; throws InputError for another name.
+UpAxis up_axis_named(const std::string& name);
 
 // Camera::orbit turns this far per pixel the pointer moves.
 inline constexpr double kOrbitRadiansPerPixel = 0.01;
@@ -28,18 +40,22 @@ class Camera {
 public:
     Vec3 target{0.0};
     double distance = 4.0;
-    double yaw = 0.0;    // radians about z, 0 = looking from +x
-    double pitch = 0.0;  // radians above the xy plane
+    double yaw = 0.0;    // radians about the up axis, 0 = looking from +x
+    double pitch = 0.0;  // radians above the plane normal to the up axis
     double fov_degrees = 30.0;
     double scene_radius = 1.0;  // sets the clip planes
+    UpAxis up_axis = UpAxis::z;
 
     // The renderer's default 3/4 view from front right, above.
     Camera();
+    // The default view of `points` framed for an image of the given aspect.
+    static Camera framing(const std::vector<Vec3>& points, double aspect);
 
     Vec3 eye() const;
     Vec3 forward() const;  // unit, from the eye toward the target
     Vec3 right() const;
-    Vec3 up() const;
+    Vec3 up() const;        // on the screen
+    Vec3 world_up() const;  // the up axis
     glm::dmat4 view() const;
     glm::dmat4 projection(double aspect) const;
 
@@ -63,4 +79,4 @@ public:
     double pixel_size(const Viewport& viewport) const;
 };
 
-}  // namespace vfsd::editor
+}  // namespace vfsd

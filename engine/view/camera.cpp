@@ -1,33 +1,62 @@
-#include "editor/camera.h"
+#include "view/camera.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
 
-namespace vfsd::editor {
+#include "base/error.h"
+
+namespace vfsd {
 namespace {
 
 constexpr double kPitchLimit = 1.55;  // just short of ±90°, so "up" stays defined
 
 double half_fov(const Camera& c) { return glm::radians(0.5 * c.fov_degrees); }
 
+// A direction of the z-up frame the angles are measured in, in the world.
+Vec3 to_world(const Vec3& v, UpAxis up) { return up == UpAxis::z ? v : Vec3(v.x, v.z, -v.y); }
+
 }  // namespace
 
+StandardView standard_view_named(const std::string& name) {
+    static const std::pair<const char*, StandardView> kViews[] = {
+        {"front", StandardView::front}, {"back", StandardView::back},     {"left", StandardView::left},
+        {"right", StandardView::right}, {"top", StandardView::top},       {"bottom", StandardView::bottom},
+        {"iso", StandardView::iso}};
+    for (const auto& [n, view] : kViews)
+        if (name == n) return view;
+    throw InputError("unknown view '" + name + "' (front, back, right, left, top, bottom or iso)");
+}
+
+UpAxis up_axis_named(const std::string& name) {
+    if (name == "z") return UpAxis::z;
+    if (name == "y") return UpAxis::y;
+    throw InputError("unknown up axis '" + name + "' (y or z)");
+}
+
 Camera::Camera() {
-    const Vec3 d = glm::normalize(Vec3(1.0, -1.6, 0.9));  // gpu::Camera's direction
+    const Vec3 d = glm::normalize(Vec3(1.0, -1.6, 0.9));  // from front right, above
     yaw = std::atan2(d.y, d.x);
     pitch = std::asin(d.z);
 }
 
+Camera Camera::framing(const std::vector<Vec3>& points, double aspect) {
+    Camera camera;
+    camera.frame(points, aspect);
+    return camera;
+}
+
 Vec3 Camera::eye() const {
-    return target + distance * Vec3(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch));
+    const Vec3 from(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch));
+    return target + distance * to_world(from, up_axis);
 }
 Vec3 Camera::forward() const { return glm::normalize(target - eye()); }
-Vec3 Camera::right() const { return glm::normalize(glm::cross(forward(), Vec3(0.0, 0.0, 1.0))); }
+Vec3 Camera::right() const { return glm::normalize(glm::cross(forward(), world_up())); }
 Vec3 Camera::up() const { return glm::cross(right(), forward()); }
+Vec3 Camera::world_up() const { return to_world(Vec3(0.0, 0.0, 1.0), up_axis); }
 
-glm::dmat4 Camera::view() const { return glm::lookAt(eye(), target, Vec3(0.0, 0.0, 1.0)); }
+glm::dmat4 Camera::view() const { return glm::lookAt(eye(), target, world_up()); }
 
 glm::dmat4 Camera::projection(double aspect) const {
     // Clip planes around the scene's sphere as seen from the current distance.
@@ -65,7 +94,7 @@ void Camera::frame(const std::vector<Vec3>& points, double aspect) {
     for (const Vec3& p : points) radius = std::max(radius, glm::length(p - target));
     if (!(radius > 0.0)) radius = 1.0;
     scene_radius = radius;
-    // As gpu::Camera: the sphere fits the narrower side of the image.
+    // The sphere fits the narrower side of the image.
     distance = 1.05 * radius / std::sin(half_fov(*this) * std::min(1.0, aspect));
 }
 
@@ -79,7 +108,8 @@ void Camera::set_view(StandardView view) {
         case StandardView::top: yaw = -0.5 * pi, pitch = kPitchLimit; break;
         case StandardView::bottom: yaw = -0.5 * pi, pitch = -kPitchLimit; break;
         case StandardView::iso: *this = [&] { Camera c; c.target = target, c.distance = distance;
-                                               c.scene_radius = scene_radius; c.fov_degrees = fov_degrees; return c; }();
+                                               c.scene_radius = scene_radius; c.fov_degrees = fov_degrees;
+                                               c.up_axis = up_axis; return c; }();
                                 break;
     }
 }
@@ -105,4 +135,4 @@ double Camera::pixel_size(const Viewport& viewport) const {
     return 2.0 * distance * std::tan(half_fov(*this)) / viewport.height;
 }
 
-}  // namespace vfsd::editor
+}  // namespace vfsd
