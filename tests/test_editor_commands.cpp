@@ -183,6 +183,44 @@ TEST_CASE("Commands: every key binding runs its command", "[editor][commands][ke
     CHECK_FALSE(run_key("q", false, false, c));
 }
 
+TEST_CASE("Commands: frame all keeps the view's direction, and every standard view frames mesh and curve",
+          "[editor][commands][camera]") {
+    TableEditor e;
+    const Viewport viewport = e.context().viewport;
+    const auto everything_in_view = [&] {
+        // Every vertex and the curve's ends project inside the image.
+        std::vector<Vec3> points = e.session.base_positions();
+        points.push_back(e.session.motion().curve().at(0.0).position);
+        points.push_back(e.session.motion().curve().at(1.0).position);
+        for (const Vec3& p : points) {
+            const glm::dvec3 pixel = e.camera.project(p, viewport);
+            if (!(pixel.x >= 0 && pixel.x <= viewport.width && pixel.y >= 0 && pixel.y <= viewport.height)) return false;
+        }
+        return true;
+    };
+    // Wander off: orbit, pan far away, zoom in hard.
+    e.camera.orbit(123.0, -31.0);
+    e.camera.pan(5000.0, -3000.0, viewport);
+    e.camera.zoom(0.01, 10.0, 10.0, viewport);
+    REQUIRE(!everything_in_view());
+    const Vec3 forward = e.camera.forward();
+    REQUIRE(e.run("view", {{"name", "frame"}}));
+    CHECK(glm::length(e.camera.forward() - forward) < 1e-12);  // the direction kept
+    CHECK(everything_in_view());
+    const int loads = e.host.loads;
+    for (const char* side : {"front", "back", "left", "right", "top", "bottom", "iso"}) {
+        INFO(side);
+        e.camera.pan(5000.0, -3000.0, viewport);
+        e.camera.zoom(0.01, 10.0, 10.0, viewport);
+        REQUIRE(e.run("view", {{"name", side}}));
+        CHECK(everything_in_view());
+        Camera turned;
+        turned.set_view(standard_view_named(side));
+        CHECK(glm::length(e.camera.forward() - turned.forward()) < 1e-12);
+    }
+    CHECK(e.host.loads == loads);  // framing is not loading
+}
+
 TEST_CASE("Commands: docs/commands.md lists the table", "[editor][commands][docs]") {
     const std::string docs = read_text(VFSD_SOURCE_DIR "/docs/commands.md");
     const std::string begin = "<!-- table: begin -->\n", end = "<!-- table: end -->";

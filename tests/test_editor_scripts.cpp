@@ -21,7 +21,8 @@ using namespace vfsd::editor;
 
 namespace {
 
-// An editor without a window: it frames the base mesh on load and keeps no autosave.
+// An editor without a window: it frames mesh and curve on load, as the Editor
+// does, and keeps no autosave.
 class HeadlessHost final : public EditorHost {
 public:
     HeadlessHost(const EditorSession& session, Camera& camera, Viewport viewport)
@@ -29,7 +30,7 @@ public:
     void screenshot(const std::string&, bool) override {}
     void loaded() override {
         camera_ = Camera();
-        camera_.frame(session_.base_positions(), viewport_.aspect());
+        frame_session(camera_, session_, viewport_);
     }
     void log(const std::string&) override {}
 
@@ -124,11 +125,11 @@ TEST_CASE("Scripted sessions: a painted region, a dragged control point and a tw
     EditorSession session;
     run_script("{\"action\": \"load\", \"path\": \"" VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json\"}\n"
                "{\"action\": \"view\", \"name\": \"front\"}\n"
-               "{\"action\": \"paint\", \"tool\": \"inner\", \"radius\": 0.15, \"points\": [[620, 400], [660, 420]]}\n"
+               "{\"action\": \"paint\", \"tool\": \"inner\", \"radius\": 0.15, \"points\": [[542, 592], [562, 602]]}\n"
                "{\"action\": \"paint\", \"tool\": \"s\", \"radius\": 0.3, \"target\": 0.3, \"strength\": 0.6, "
-               "\"points\": [[600, 380]]}\n"
-               "{\"action\": \"drag\", \"index\": 3, \"to\": [800, 250]}\n"
-               "{\"action\": \"drag\", \"index\": 2, \"to\": [700, 300], \"axis\": \"z\"}\n"
+               "\"points\": [[533, 583]]}\n"
+               "{\"action\": \"drag\", \"index\": 3, \"to\": [640, 502]}\n"
+               "{\"action\": \"drag\", \"index\": 2, \"to\": [589, 527], \"axis\": \"z\"}\n"
                "{\"action\": \"twist\", \"alpha\": [10, -30]}\n"
                "{\"action\": \"set-time\", \"t\": 0.6}\n"
                "{\"action\": \"wait-until-time\", \"t\": 0.6}\n"

@@ -9,6 +9,7 @@
 
 #include "base/error.h"
 #include "editor/picking.h"
+#include "scene/framing.h"
 
 namespace vfsd::editor {
 namespace {
@@ -334,10 +335,8 @@ bool play_pause(const CommandArgs&, CommandContext& c) {
 
 bool view(const CommandArgs& a, CommandContext& c) {
     const std::string name = a.text("name");
-    if (name == "frame")
-        c.host.loaded();
-    else
-        c.camera.set_view(standard_view_named(name));
+    if (name != "frame") c.camera.set_view(standard_view_named(name));
+    frame_session(c.camera, c.session, c.viewport);
     return true;
 }
 
@@ -455,7 +454,7 @@ const std::vector<Command> kCommands = {
     {"redo", "redo the last undone edit", {},
      [](const CommandArgs&, CommandContext& c) { if (!c.session.redo()) throw InputError("nothing to redo"); return true; }},
     // ---- view
-    {"view", "a standard view, or frame all", {{"name", T::text, true, "view", "front|back|left|right|top|bottom|iso|frame"}}, view},
+    {"view", "a standard view, or frame all: each frames mesh and curve; frame keeps the direction", {{"name", T::text, true, "view", "front|back|left|right|top|bottom|iso|frame"}}, view},
     {"orbit", "turn the camera over frames as a pointer drag would",
      {{"degrees", T::pair, true, "[yaw, pitch]"}, {"frames", T::integer, true, "how many"},
       {"pointer", T::pixel, false, "the hovering pointer; the editor logs each frame's times"}}, orbit},
@@ -637,6 +636,11 @@ std::string commands_markdown() {
         out << "| `" << k.key << "` | `" << k.command << "`" << args << " | " << k.help << " |\n";
     }
     return out.str();
+}
+
+void frame_session(Camera& camera, const EditorSession& session, const Viewport& viewport) {
+    camera.frame(deformation_frame_points(session.base_positions(), session.s(), session.motion()),
+                 viewport.aspect());
 }
 
 }  // namespace vfsd::editor

@@ -23,7 +23,7 @@ public:
     virtual ~EditorHost() = default;
     // Save the next rendered frame as PNG (with or without the panels).
     virtual void screenshot(const std::string& path, bool ui) = 0;
-    // A loaded mesh or scene (or "frame all"): the application frames it.
+    // A loaded mesh or scene: the application turns to its default view and frames it.
     virtual void loaded() = 0;
     virtual void log(const std::string& line) = 0;
     // The autosave (editor/autosave.h), in editors that keep one; the defaults
@@ -103,6 +103,10 @@ struct Command {
     // Returns false while the command waits for later frames (it is called again).
     bool (*run)(const CommandArgs& args, CommandContext& context);
 };
+
+// Frames the mesh and the whole curve (as `vfsd render` does), keeping the view's
+// direction: "frame all", and every standard view.
+void frame_session(Camera& camera, const EditorSession& session, const Viewport& viewport);
 
 const std::vector<Command>& command_table();
 // Throws InputError for an unknown name.

@@ -6,7 +6,6 @@
 #include <filesystem>
 
 #include "base/error.h"
-#include "scene/framing.h"
 
 namespace vfsd::editor {
 namespace {
@@ -75,10 +74,8 @@ void Editor::open_scene(const Scene& scene) {
 }
 
 void Editor::loaded() {
-    // Frame the mesh and the whole curve, as `vfsd render` does.
     camera_ = Camera();
-    camera_.frame(deformation_frame_points(session_->base_positions(), session_->s(), session_->motion()),
-                  shell_.viewport().aspect());
+    frame_session(camera_, *session_, shell_.viewport());
 }
 
 // ---- commands and scripts -------------------------------------------------------------
