@@ -59,8 +59,10 @@ private:
     void draw_file_panel();
     void draw_tools_panel();
     void draw_curve_panel();
-    void draw_time_panel();
-    void draw_stats_panel();
+    void draw_time_bar();
+    void draw_stats_line();
+    void draw_options();
+    void draw_load_error();
     void draw_help();
     void draw_restore_offer();
     void save_screenshot(const std::string& path) const;

@@ -2,6 +2,7 @@
 // editor's table (docs/commands.md); keys go to the editor's key table, and the
 // help window lists it with the shell's own keys (kShellShortcuts).
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -74,21 +75,55 @@ void App::handle_shortcuts() {
     }
 }
 
+// The side panel (file, tools, curve, options) scrolls when the window is short;
+// the time bar (play, time, stats, warnings, status) is pinned to the bottom of
+// the view, and a load error stands on the view until dismissed.
 void App::draw_panels() {
     if (!show_ui_) return;
-    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
-    ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_Always);
+    constexpr float kMargin = 8.0f, kPanelWidth = 330.0f;
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(kMargin, kMargin), ImGuiCond_Always);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(kPanelWidth, 0.0f),
+                                        ImVec2(kPanelWidth, std::max(120.0f, display.y - 2.0f * kMargin)));
     ImGui::SetNextWindowBgAlpha(0.92f);
-    ImGui::Begin("vfsd", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    ImGui::Begin("vfsd", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_AlwaysAutoResize);
     if (ImGui::CollapsingHeader("File", ImGuiTreeNodeFlags_DefaultOpen)) draw_file_panel();
     if (ImGui::CollapsingHeader("Tools", ImGuiTreeNodeFlags_DefaultOpen)) draw_tools_panel();
     if (ImGui::CollapsingHeader("Curve", ImGuiTreeNodeFlags_DefaultOpen)) draw_curve_panel();
-    if (ImGui::CollapsingHeader("Time", ImGuiTreeNodeFlags_DefaultOpen)) draw_time_panel();
-    if (ImGui::CollapsingHeader("Stats", ImGuiTreeNodeFlags_DefaultOpen)) draw_stats_panel();
+    if (ImGui::CollapsingHeader("Options", ImGuiTreeNodeFlags_DefaultOpen)) draw_options();
+    ImGui::End();
+
+    const float left = 2.0f * kMargin + kPanelWidth;
+    ImGui::SetNextWindowPos(ImVec2(left, display.y - kMargin), ImGuiCond_Always, ImVec2(0.0f, 1.0f));
+    ImGui::SetNextWindowSize(ImVec2(std::max(300.0f, display.x - left - kMargin), 0.0f), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(0.92f);
+    ImGui::Begin("time", nullptr,
+                 ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
+                     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoScrollbar);
+    draw_time_bar();
+    draw_stats_line();
     for (const std::string& w : editor_->session().warnings())
         ImGui::TextColored(ImVec4(0.75f, 0.35f, 0.0f, 1), "! %s", w.c_str());
+    if (!editor_->status().empty()) ImGui::TextWrapped("%s", editor_->status().c_str());
     ImGui::End();
+    draw_load_error();
     if (show_help_) draw_help();
+}
+
+void App::draw_load_error() {
+    const std::string& error = editor_->load_error();
+    if (error.empty()) return;
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(0.5f * display.x, 0.4f * display.y), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::SetNextWindowSize(ImVec2(std::min(520.0f, display.x - 16.0f), 0.0f), ImGuiCond_Always);
+    ImGui::Begin("Could not open the file", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", "The session is kept as it was.");
+    ImGui::TextWrapped("%s", error.c_str());
+    if (ImGui::Button("Dismiss") || pressed(GLFW_KEY_ESCAPE)) editor_->dismiss_load_error();
+    tooltip("Esc");
+    ImGui::End();
 }
 
 void App::draw_file_panel() {
@@ -109,8 +144,6 @@ void App::draw_file_panel() {
             ImGui::EndCombo();
         }
     }
-    const std::string& load_error = editor_->load_error();
-    if (!load_error.empty()) ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", load_error.c_str());
     ImGui::SetNextItemWidth(230);
     ImGui::InputText("output", output_field_, sizeof output_field_);
     tooltip("Base name of exports: NAME.obj/.ply/.glb, NAME.json, NAME.png");
@@ -127,7 +160,6 @@ void App::draw_file_panel() {
     tooltip("A scene file that `vfsd deform` turns into the same result");
     ImGui::SameLine();
     if (ImGui::Button("Screenshot")) command("screenshot", {{"path", base + ".png"}});
-    if (!editor_->status().empty()) ImGui::TextWrapped("%s", editor_->status().c_str());
 }
 
 void App::draw_tools_panel() {
@@ -192,17 +224,21 @@ void App::draw_curve_panel() {
     tooltip("Twist about the curve's tangent, eq. (14)");
 }
 
-void App::draw_time_panel() {
+// Play, the target time, the current time and the edit buttons, on one row.
+void App::draw_time_bar() {
     const editor::EditorSession& s = editor_->session();
+    if (ImGui::Button(s.moving() ? "Pause" : "Play ")) command("play-pause");
+    tooltip("Space");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(180);
     float target = float(s.target_time());
-    if (ImGui::SliderFloat("target t", &target, 0.0f, 1.0f, "%.3f")) command("set-time", {{"t", target}});
+    if (ImGui::SliderFloat("##target", &target, 0.0f, 1.0f, "target t %.3f")) command("set-time", {{"t", target}});
     tooltip("The dark sphere; the white one is the current time");
+    ImGui::SameLine();
     char label[64];
     std::snprintf(label, sizeof label, "t = %.3f", s.time());
     const double span = std::abs(s.target_time() - 0.0);
-    ImGui::ProgressBar(span > 0 ? float(s.time() / span) : 0.0f, ImVec2(-1, 0), label);
-    if (ImGui::Button(s.moving() ? "Pause" : "Play")) command("play-pause");
-    tooltip("Space");
+    ImGui::ProgressBar(span > 0 ? float(s.time() / span) : 0.0f, ImVec2(120, 0), label);
     struct Action {
         const char *label, *command, *tip;
     };
@@ -215,23 +251,29 @@ void App::draw_time_panel() {
     }
 }
 
-void App::draw_stats_panel() {
+// The numbers a user watches, on one line: size, backend, speed, volume, folds, history.
+void App::draw_stats_line() {
     const editor::EditorSession& s = editor_->session();
     const editor::SessionStats& st = s.stats();
-    ImGui::Text("%zu vertices, %zu triangles", st.vertices, st.triangles);
-    ImGui::Text("backend: %s", st.backend.c_str());
+    ImGui::Text("%zu vertices | %s", st.vertices, st.backend.c_str());
     if (!st.backend_reason.empty()) {
         ImGui::SameLine();
         ImGui::TextDisabled("(why?)");
         tooltip(st.backend_reason.c_str());
     }
-    ImGui::Text("%.3f ms/step, volume error %.3f%%", st.ms_per_step, st.volume_error_percent);
+    ImGui::SameLine();
+    ImGui::Text("| %.3f ms/step | volume error %.3f%% |", st.ms_per_step, st.volume_error_percent);
+    ImGui::SameLine();
     if (st.flipped_triangles > 0 && st.first_fold_time >= 0.0)
-        ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.3f, 1.0f), "flipped triangles: %zu (since t = %.2f)",
+        ImGui::TextColored(ImVec4(0.85f, 0.3f, 0.0f, 1.0f), "%zu flipped triangles (since t = %.2f)",
                            st.flipped_triangles, st.first_fold_time);
     else
-        ImGui::Text("flipped triangles: %zu", st.flipped_triangles);
-    ImGui::Text("undo: %zu, redo: %zu", s.history().undo_count(), s.history().redo_count());
+        ImGui::Text("%zu flipped triangles", st.flipped_triangles);
+    ImGui::SameLine();
+    ImGui::TextDisabled("| undo %zu, redo %zu", s.history().undo_count(), s.history().redo_count());
+}
+
+void App::draw_options() {
     bool cpu = editor_->settings().force_cpu;
     if (ImGui::Checkbox("force CPU", &cpu)) command("force-cpu", {{"on", cpu}});
     ImGui::SameLine();

@@ -82,6 +82,7 @@ public:
     const ScriptRunner* script() const { return script_.get(); }
     // The last open's error ("" after a success) and a line for the status bar.
     const std::string& load_error() const { return load_error_; }
+    void dismiss_load_error() { load_error_.clear(); }
     const std::string& status() const { return status_; }
     void set_status(std::string text) { status_ = std::move(text); }
     // Wall time per step of the last frame's steps (GPU read-back included).
