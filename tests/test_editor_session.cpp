@@ -51,7 +51,7 @@ TEST_CASE("EditorSession: save, load and deform give the session's own result", 
         brush.radius = 0.4;
         brush.s_target = 0.2;
         session.brush(at_vertex_nearest(session, {0.5, 0.5, 0.5}), brush);
-        CurveSettings curve = session.curve();
+        MotionSpec curve = session.curve();
         curve.twist_degrees[1] = 40.0;
         curve.inner_motion = InnerMotionMode::Translation;
         session.set_curve(curve);
@@ -133,8 +133,8 @@ TEST_CASE("EditorSession: a failed save or export changes nothing and says why",
 TEST_CASE("EditorSession: a non-finite integration stops at the last good shape with one message", "[editor][session]") {
     EditorSession session;
     Scene scene = load_scene(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json");
-    scene.curve.bezier = {{0, 0, 0.6}, {0, 0, 1e307}, {1e307, 0, 1e307}, {1e307, 1e307, 1e307}};
-    scene.inner_motion = InnerMotionMode::Translation;
+    scene.motion.curve.bezier = {{0, 0, 0.6}, {0, 0, 1e307}, {1e307, 0, 1e307}, {1e307, 1e307, 1e307}};
+    scene.motion.inner_motion = InnerMotionMode::Translation;
     session.open_scene(scene);
     const std::size_t warnings = session.warnings().size();
     session.set_target_time(1.0);
@@ -146,7 +146,7 @@ TEST_CASE("EditorSession: a non-finite integration stops at the last good shape 
     REQUIRE(session.warnings().size() == warnings + 1);
     CHECK_THAT(session.warnings().back(), Catch::StartsWith("deformation stopped: ") && Catch::Contains("non-finite"));
     // A usable curve deforms again and the message goes.
-    CurveSettings curve = session.curve();
+    MotionSpec curve = session.curve();
     curve.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.8}, {0.1, 0, 1.0}, {0.3, 0, 1.1}};
     session.set_curve(curve);
     session.set_target_time(1.0);

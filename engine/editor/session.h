@@ -78,10 +78,11 @@ public:
     // Inner = seed side of `inner`, outer = beyond `outer` (boundary_cut.h); throws InputError.
     void set_region_from_loops(const SurfaceLoop& inner, const SurfaceLoop& outer, const SurfacePoint& seed);
 
-    // Curve tools, with the same gesture rule.
+    // Curve tools, with the same gesture rule. They edit the scene's motion: the
+    // curve (or handle) and its settings.
     void begin_curve_gesture();
     void end_curve_gesture(const std::string& label);
-    void set_curve(const CurveSettings& settings);
+    void set_curve(const MotionSpec& next);
     // The draggable points: Bézier control points, or (handle mode) from and to positions.
     std::vector<Vec3> control_points() const;
     void move_control_point(std::size_t index, const Vec3& position);
@@ -116,7 +117,8 @@ public:
     const std::vector<double>& s() const { return s_; }
     const RegionSource& region() const { return doc_.region; }
     const RegionPaint& paint() const { return doc_.paint; }
-    const CurveSettings& curve() const { return doc_.curve; }
+    // The curve (or handle) and its settings: the scene's motion, as set_curve takes it.
+    const MotionSpec& curve() const { return doc_.scene.motion; }
     // The motion of the current curve (for drawing it); empty when it is invalid.
     const InnerMotion& motion() const { return motion_; }
     const std::string& mesh_name() const { return doc_.scene.mesh; }
@@ -153,10 +155,9 @@ private:
     struct Document {
         MeshFile file;
         VertexRings rings;
-        Scene scene;  // mesh name, options; region and curve live below
+        Scene scene;  // mesh name, options, motion; the region lives below
         RegionSource region;
         RegionPaint paint;
-        CurveSettings curve;
         bool baked = false;  // base positions differ from the mesh file's
         std::vector<std::string> mesh_warnings;
     };
@@ -191,7 +192,7 @@ private:
     bool region_gesture_ = false, curve_gesture_ = false;
     bool region_gesture_changed_ = false, curve_gesture_changed_ = false;
     RegionChange pending_region_;
-    CurveSettings pending_curve_;
+    MotionSpec pending_curve_;
 
     std::unique_ptr<PreparedScene> prepared_;
     std::unique_ptr<LiveDeformation> deformation_;
