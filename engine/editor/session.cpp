@@ -87,7 +87,8 @@ void EditorSession::open_scene(const Scene& scene) {
     doc.file = load_mesh_file(scene.mesh);
     doc.scene = scene;
     doc.region.kind = RegionSource::Kind::spec;
-    doc.region.spec = scene.region;
+    doc.region.spec = std::move(doc.scene.region);
+    doc.scene.region = {};
     replace_document(std::move(doc));
 }
 
@@ -126,6 +127,7 @@ void EditorSession::replace_document(Document doc) {
     std::vector<std::string> region_warnings;
     Region region = build_region(doc.region.spec, doc.file.mesh.positions, doc.rings, region_warnings);
     InnerMotion motion = build_motion(doc.scene.motion);
+    doc.scene.target_time = 0.0;  // a document opens at rest
     doc_ = std::move(doc);
     motion_ = std::move(motion);
     s_ = std::move(region.s);
@@ -135,10 +137,9 @@ void EditorSession::replace_document(Document doc) {
     diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
     if (!(diagonal_ > 0.0)) diagonal_ = 1.0;
     base_volume_ = signed_volume(doc_.file.mesh.positions, doc_.file.mesh.triangles);
-    set_target(0.0);
-    ++document_revision_;
     stats_.vertices = doc_.file.mesh.vertex_count();
     stats_.triangles = doc_.file.mesh.triangle_count();
+    ++document_revision_;
     drop_deformation();
     ++mesh_revision_, ++curve_revision_, ++positions_revision_;
     refresh_curve_warnings();
@@ -147,7 +148,6 @@ void EditorSession::replace_document(Document doc) {
 Scene EditorSession::current_scene() const {
     Scene scene = doc_.scene;
     scene.region = region_spec();
-    scene.target_time = target_;
     return scene;
 }
 
@@ -390,8 +390,8 @@ double EditorSession::time() const { return deformation_ ? deformation_->time() 
 void EditorSession::set_target_time(double t) { set_target(std::clamp(t, 0.0, 1.0)); }
 
 void EditorSession::set_target(double t) {
-    if (t == target_) return;
-    target_ = t;
+    if (t == doc_.scene.target_time) return;
+    doc_.scene.target_time = t;
     ++document_revision_;
 }
 
@@ -445,11 +445,11 @@ void EditorSession::ensure_deformation() {
 }
 
 int EditorSession::update(int max_steps) {
-    if (time() == target_) return 0;
+    if (time() == target_time()) return 0;
     int taken = 0;
     try {
         ensure_deformation();
-        taken = deformation_->advance(target_, max_steps);
+        taken = deformation_->advance(target_time(), max_steps);
         if (taken > 0) {
             ++revision_, ++positions_revision_;
             update_stats();

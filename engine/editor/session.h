@@ -94,9 +94,9 @@ public:
     // Time. The deformation integrates toward the target in update(); an edit of
     // the region or curve restarts it from t = 0 (the target stays).
     void set_target_time(double t);
-    double target_time() const { return target_; }
+    double target_time() const { return doc_.scene.target_time; }
     double time() const;
-    bool moving() const { return time() != target_; }
+    bool moving() const { return time() != target_time(); }
     void play();   // target 1 (from 0 again when already there)
     void pause();  // target = current time
     void reset();  // back to t = 0 at once
@@ -149,13 +149,16 @@ public:
     void set_autosave_warning(std::string text) { autosave_warning_ = std::move(text); }
 
     void set_force_cpu(bool cpu);
-    DeformationOptions& options() { return doc_.scene.options; }
+    const DeformationOptions& options() const { return doc_.scene.options; }
 
 private:
     struct Document {
         MeshFile file;
         VertexRings rings;
-        Scene scene;  // mesh name, options, motion; the region lives below
+        // The truth for the mesh name, the options, the target time and the motion.
+        // Its region stays empty: `region` and `paint` define the region (painting
+        // needs labels), and current_scene() fills it in from them (region_spec()).
+        Scene scene;
         RegionSource region;
         RegionPaint paint;
         bool baked = false;  // base positions differ from the mesh file's
@@ -196,7 +199,6 @@ private:
 
     std::unique_ptr<PreparedScene> prepared_;
     std::unique_ptr<LiveDeformation> deformation_;
-    double target_ = 0.0;
     SessionStats stats_;
     std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1, document_revision_ = 1;
     std::uint64_t positions_revision_ = 1;
