@@ -168,6 +168,46 @@ TEST_CASE("EditorSession: a plain mesh opens with a region and a curve that defo
     CHECK(session.stats().flipped_triangles == 0);
 }
 
+TEST_CASE("EditorSession: each edit moves the revisions that follow what it changed", "[editor][session]") {
+    EditorSession session;
+    session.open_mesh("builtin:bar");
+    // The names of the revisions that moved since the last call.
+    std::uint64_t last[5] = {};
+    const auto moved = [&] {
+        const std::uint64_t now[5] = {session.revision(), session.mesh_revision(), session.positions_revision(),
+                                      session.curve_revision(), session.document_revision()};
+        static const char* names[5] = {"view", "mesh", "positions", "curve", "document"};
+        std::string out;
+        for (int i = 0; i < 5; ++i)
+            if (now[i] != last[i]) out += (out.empty() ? "" : " ") + std::string(names[i]), last[i] = now[i];
+        return out;
+    };
+    moved();
+
+    session.set_target_time(0.5);
+    CHECK(moved() == "document");
+    session.set_target_time(0.5);
+    CHECK(moved() == "");
+    run_to_target(session);  // time advancing is no change to the document
+    CHECK(moved() == "view positions");
+    const RegionSpec geodesic = session.region().spec;
+    session.set_geodesic_range(0.9 * geodesic.g_min, geodesic.g_max);  // s changes, back to the base positions
+    CHECK(moved() == "view positions document");
+    session.move_control_point(3, session.control_points()[3] + Vec3(0.1, 0.0, 0.0));  // nothing deformed yet
+    CHECK(moved() == "view curve document");
+    session.set_force_cpu(true);
+    CHECK(moved() == "");
+
+    run_to_target(session);
+    moved();
+    session.apply();  // new base positions, region and curve
+    CHECK(moved() == "view positions curve document");
+    REQUIRE(session.undo());
+    CHECK(moved() == "view positions curve document");
+    session.open_mesh("builtin:bar");
+    CHECK(moved() == "view mesh positions curve document");
+}
+
 TEST_CASE("Scripts: JSON lines and arrays parse; errors name the line", "[editor][script]") {
     const auto lines = parse_script("# a comment\n{\"action\": \"set-time\", \"t\": 1}\n\n{\"action\": \"undo\"}\n", "s.jsonl");
     REQUIRE(lines.size() == 2);

@@ -139,10 +139,22 @@ void EditorSession::replace_document(Document doc) {
     base_volume_ = signed_volume(doc_.file.mesh.positions, doc_.file.mesh.triangles);
     stats_.vertices = doc_.file.mesh.vertex_count();
     stats_.triangles = doc_.file.mesh.triangle_count();
-    ++document_revision_;
     drop_deformation();
-    ++mesh_revision_, ++curve_revision_, ++positions_revision_;
+    changed(mesh_replaced);
     refresh_curve_warnings();
+}
+
+// The revisions' promises (session.h), kept in one place.
+void EditorSession::changed(unsigned what) {
+    if (what & mesh_replaced) what |= base_moved | region_edited | motion_edited | target_moved;
+    if (what & base_moved) what |= positions_moved;
+    if (what & mesh_replaced) ++mesh_revision_;
+    if (what & motion_edited) ++curve_revision_;
+    if (what & positions_moved) ++positions_revision_;
+    // What the view uploads and draws: positions(), s() and the curve.
+    if (what & (positions_moved | region_edited | motion_edited)) ++revision_;
+    // What save_scene() writes; time advancing toward the target is not a change.
+    if (what & (base_moved | region_edited | motion_edited | target_moved)) ++document_revision_;
 }
 
 Scene EditorSession::current_scene() const {
@@ -191,7 +203,7 @@ void EditorSession::region_changed() {
     s_ = build_region(region_spec(), doc_.file.mesh.positions, doc_.rings, warnings).s;
     region_warnings_ = std::move(warnings);
     drop_deformation();
-    ++document_revision_;
+    changed(region_edited);
     refresh_curve_warnings();
 }
 
@@ -296,7 +308,7 @@ void EditorSession::set_region_from_loops(const SurfaceLoop& inner, const Surfac
 void EditorSession::curve_changed() {
     motion_ = build_motion(doc_.scene.motion);
     drop_deformation();
-    ++curve_revision_, ++document_revision_;
+    changed(motion_edited);
     refresh_curve_warnings();
 }
 
@@ -392,7 +404,7 @@ void EditorSession::set_target_time(double t) { set_target(std::clamp(t, 0.0, 1.
 void EditorSession::set_target(double t) {
     if (t == doc_.scene.target_time) return;
     doc_.scene.target_time = t;
-    ++document_revision_;
+    changed(target_moved);
 }
 
 void EditorSession::play() {
@@ -416,7 +428,7 @@ void EditorSession::set_force_cpu(bool cpu) {
 void EditorSession::drop_deformation() {
     // The next deformation starts afresh: the last one's error goes with it.
     runtime_error_.clear();
-    if (deformation_) ++positions_revision_;  // back to the base positions
+    if (deformation_) changed(positions_moved);  // back to the base positions
     deformation_.reset();
     prepared_.reset();
     stats_.ms_per_step = 0.0;
@@ -425,7 +437,6 @@ void EditorSession::drop_deformation() {
     folded_.clear();
     stats_.first_fold_time = -1.0;
     predict_backend();
-    ++revision_;
 }
 
 void EditorSession::ensure_deformation() {
@@ -451,7 +462,7 @@ int EditorSession::update(int max_steps) {
         ensure_deformation();
         taken = deformation_->advance(target_time(), max_steps);
         if (taken > 0) {
-            ++revision_, ++positions_revision_;
+            changed(positions_moved);
             update_stats();
         }
     } catch (const std::exception& e) {
@@ -541,7 +552,7 @@ void EditorSession::apply_edit(const Edit& edit, bool forward) {
         doc_.scene.motion = forward ? b->motion_after : b->motion_before;
         diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
         base_volume_ = signed_volume(doc_.file.mesh.positions, doc_.file.mesh.triangles);
-        ++positions_revision_;
+        changed(base_moved);
         region_changed();
         curve_changed();
     }

@@ -127,6 +127,7 @@ public:
     // The surface under a ray at positions(): the editors' one way to pick it
     // (a SurfacePicker following mesh_revision() and positions_revision()).
     std::optional<SurfaceHit> pick_surface(const Ray& ray) const;
+    // Each edit tells changed() (private, below) what it changed; only it bumps these.
     // Bumped whenever positions() or s() change (the view re-uploads), when the
     // mesh is replaced (new triangles), and when the curve changes.
     std::uint64_t revision() const { return revision_; }
@@ -164,6 +165,18 @@ private:
         bool baked = false;  // base positions differ from the mesh file's
         std::vector<std::string> mesh_warnings;
     };
+
+    // What an edit changed. changed() is the one place that turns it into the
+    // revisions above (what invalidates what); each mutation calls it.
+    enum Change : unsigned {
+        mesh_replaced = 1u << 0,    // a new document: new triangles, and everything below
+        base_moved = 1u << 1,       // new base positions (apply, and its undo)
+        region_edited = 1u << 2,    // the region source or paint, hence s
+        motion_edited = 1u << 3,    // the curve or handle, or its settings
+        target_moved = 1u << 4,     // the target time
+        positions_moved = 1u << 5,  // positions() moved: steps taken, or back to the base
+    };
+    void changed(unsigned what);
 
     void replace_document(Document doc);
     RegionSpec region_spec() const;
