@@ -76,7 +76,7 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"vertices", b.mesh.mesh.vertex_count()},
             {"region", b.region_kind},
             {"motion", b.motion_kind},
-            {"inner_motion", b.scene.inner_motion == InnerMotionMode::Rotation ? "rotation" : "translation"},
+            {"inner_motion", b.scene.motion.inner_motion == InnerMotionMode::Rotation ? "rotation" : "translation"},
             {"bend_degrees", b.bend_degrees},
             {"move_over_inner", b.move_over_inner},
             {"twist_degrees", b.twist_degrees},

@@ -213,7 +213,7 @@ void App::draw_curve_panel() {
         ImGui::TextWrapped("Handle: drag the gizmo on the target. Centre: move in the screen plane; "
                            "x / y / z axes (red, green, blue = normal): move along; rings: rotate about.");
     }
-    const editor::CurveSettings& c = s.curve();
+    const MotionSpec& c = s.curve();
     int mode = c.inner_motion == InnerMotionMode::Rotation ? 0 : 1;
     if (ImGui::Combo("inner motion", &mode, "rotation\0translation\0"))
         command("inner-motion", {{"mode", mode == 0 ? "rotation" : "translation"}});

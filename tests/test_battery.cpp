@@ -81,8 +81,8 @@ TEST_CASE("battery scenes are reproducible and cover every region kind, motion, 
     CHECK(far > kScenes / 2);  // most placed 10 to 100 diagonals from the origin
     CHECK(twists_left > 0);
     CHECK(twists_right > 0);
-    CHECK(generate_battery_scene(kSeed + 1, 0, sources()).scene.curve.bezier !=
-          generate_battery_scene(kSeed, 0, sources()).scene.curve.bezier);
+    CHECK(generate_battery_scene(kSeed + 1, 0, sources()).scene.motion.curve.bezier !=
+          generate_battery_scene(kSeed, 0, sources()).scene.motion.curve.bezier);
 }
 
 TEST_CASE("battery meshes must be closed, in one piece and large enough", "[battery]") {

@@ -169,8 +169,8 @@ TEST_CASE("vfsd scene-keys lists every key a scene file has, as docs/scene-forma
     CHECK(listed == documented);
     // A scene with every optional key set writes only listed keys.
     Scene scene = load_scene(std::string(VFSD_SOURCE_DIR) + "/assets/scenes/fig14-cylinder-knot.json");
-    scene.twist_plane = 0.5;
-    scene.stream_origin = Vec3(0.0);
+    scene.motion.twist_plane = 0.5;
+    scene.motion.stream_origin = Vec3(0.0);
     const nlohmann::json written = scene_to_json(scene);
     for (const auto& [key, value] : written.items()) {
         INFO(key);

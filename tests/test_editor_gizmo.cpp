@@ -42,7 +42,7 @@ struct OpenScene {
         scene.options.steps = 40;
         session.open_scene(scene);
         std::vector<Vec3> points = session.base_positions();
-        if (scene.curve.is_handle) points.push_back(scene.curve.to.position);
+        if (scene.motion.curve.is_handle) points.push_back(scene.motion.curve.to.position);
         camera.frame(points, kViewport.aspect());
         tools.adapt_to(session);
     }
@@ -301,7 +301,7 @@ TEST_CASE("Handle gizmo: a ring drag turns the target by the swept angle about i
 
 TEST_CASE("Handle gizmo: a drag through the tools is one undo step", "[editor][gizmo]") {
     HandleScene h;
-    const CurveSettings before = h.session.curve();
+    const MotionSpec before = h.session.curve();
     const std::size_t steps_before = h.session.history().undo_count();
 
     // A quarter turn of the y ring in ten pointer moves.
@@ -309,7 +309,7 @@ TEST_CASE("Handle gizmo: a drag through the tools is one undo step", "[editor][g
     pointer_drag(h, GizmoPart::ring_y, 10, [&](glm::dvec2 grab, int k) { return turned_on_screen(grab, centre, 9.0 * k); });
     REQUIRE(h.session.history().undo_count() == steps_before + 1);
     CHECK(h.session.history().last()->label == "rotate handle");
-    const CurveSettings after = h.session.curve();
+    const MotionSpec after = h.session.curve();
     CHECK(after.curve.from.position == before.curve.from.position);
     CHECK(after.curve.from.normal == before.curve.from.normal);
     CHECK(std::abs(glm::dot(after.curve.to.normal, before.curve.to.normal)) < 1e-9);  // 90 degrees about y ⟂ m̂
@@ -370,9 +370,9 @@ TEST_CASE("Handle gizmo: the dragged session saved as a scene deforms the same i
     h.session.save_scene(path);
 
     const Scene saved = load_scene(path);
-    REQUIRE(saved.curve.is_handle);
-    CHECK(glm::length(saved.curve.to.position - h.target().position) < 1e-12);
-    CHECK(glm::length(saved.curve.to.normal - h.target().normal) < 1e-12);
+    REQUIRE(saved.motion.curve.is_handle);
+    CHECK(glm::length(saved.motion.curve.to.position - h.target().position) < 1e-12);
+    CHECK(glm::length(saved.motion.curve.to.normal - h.target().normal) < 1e-12);
     CHECK(deform_scene(saved) == h.session.positions());
 
     // The command-line tool itself (PLY: float32 positions); the undragged handle

@@ -103,7 +103,7 @@ TEST_CASE("Scripted sessions: a geodesic pick, translation, apply, undo and redo
     EditorSession direct;
     direct.open_mesh("builtin:bar");
     direct.pick_geodesic(5, 0.1, 0.5);
-    CurveSettings curve = direct.curve();
+    MotionSpec curve = direct.curve();
     curve.inner_motion = InnerMotionMode::Translation;
     direct.set_curve(curve);
     direct.set_target_time(1.0);

@@ -51,7 +51,7 @@ TEST_CASE("EditorSession: save, load and deform give the session's own result", 
         brush.radius = 0.4;
         brush.s_target = 0.2;
         session.brush(at_vertex_nearest(session, {0.5, 0.5, 0.5}), brush);
-        CurveSettings curve = session.curve();
+        MotionSpec curve = session.curve();
         curve.twist_degrees[1] = 40.0;
         curve.inner_motion = InnerMotionMode::Translation;
         session.set_curve(curve);
@@ -133,8 +133,8 @@ TEST_CASE("EditorSession: a failed save or export changes nothing and says why",
 TEST_CASE("EditorSession: a non-finite integration stops at the last good shape with one message", "[editor][session]") {
     EditorSession session;
     Scene scene = load_scene(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json");
-    scene.curve.bezier = {{0, 0, 0.6}, {0, 0, 1e307}, {1e307, 0, 1e307}, {1e307, 1e307, 1e307}};
-    scene.inner_motion = InnerMotionMode::Translation;
+    scene.motion.curve.bezier = {{0, 0, 0.6}, {0, 0, 1e307}, {1e307, 0, 1e307}, {1e307, 1e307, 1e307}};
+    scene.motion.inner_motion = InnerMotionMode::Translation;
     session.open_scene(scene);
     const std::size_t warnings = session.warnings().size();
     session.set_target_time(1.0);
@@ -146,7 +146,7 @@ TEST_CASE("EditorSession: a non-finite integration stops at the last good shape 
     REQUIRE(session.warnings().size() == warnings + 1);
     CHECK_THAT(session.warnings().back(), Catch::StartsWith("deformation stopped: ") && Catch::Contains("non-finite"));
     // A usable curve deforms again and the message goes.
-    CurveSettings curve = session.curve();
+    MotionSpec curve = session.curve();
     curve.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.8}, {0.1, 0, 1.0}, {0.3, 0, 1.1}};
     session.set_curve(curve);
     session.set_target_time(1.0);
@@ -166,6 +166,46 @@ TEST_CASE("EditorSession: a plain mesh opens with a region and a curve that defo
     CHECK(session.stats().backend == "cpu");
     CHECK(session.stats().volume_error_percent < 2.0);
     CHECK(session.stats().flipped_triangles == 0);
+}
+
+TEST_CASE("EditorSession: each edit moves the revisions that follow what it changed", "[editor][session]") {
+    EditorSession session;
+    session.open_mesh("builtin:bar");
+    // The names of the revisions that moved since the last call.
+    std::uint64_t last[5] = {};
+    const auto moved = [&] {
+        const std::uint64_t now[5] = {session.revision(), session.mesh_revision(), session.positions_revision(),
+                                      session.curve_revision(), session.document_revision()};
+        static const char* names[5] = {"view", "mesh", "positions", "curve", "document"};
+        std::string out;
+        for (int i = 0; i < 5; ++i)
+            if (now[i] != last[i]) out += (out.empty() ? "" : " ") + std::string(names[i]), last[i] = now[i];
+        return out;
+    };
+    moved();
+
+    session.set_target_time(0.5);
+    CHECK(moved() == "document");
+    session.set_target_time(0.5);
+    CHECK(moved() == "");
+    run_to_target(session);  // time advancing is no change to the document
+    CHECK(moved() == "view positions");
+    const RegionSpec geodesic = session.region().spec;
+    session.set_geodesic_range(0.9 * geodesic.g_min, geodesic.g_max);  // s changes, back to the base positions
+    CHECK(moved() == "view positions document");
+    session.move_control_point(3, session.control_points()[3] + Vec3(0.1, 0.0, 0.0));  // nothing deformed yet
+    CHECK(moved() == "view curve document");
+    session.set_force_cpu(true);
+    CHECK(moved() == "");
+
+    run_to_target(session);
+    moved();
+    session.apply();  // new base positions, region and curve
+    CHECK(moved() == "view positions curve document");
+    REQUIRE(session.undo());
+    CHECK(moved() == "view positions curve document");
+    session.open_mesh("builtin:bar");
+    CHECK(moved() == "view mesh positions curve document");
 }
 
 TEST_CASE("Scripts: JSON lines and arrays parse; errors name the line", "[editor][script]") {

@@ -11,7 +11,7 @@ namespace vfsd::test {
 
 inline Scene folding_box_scene() {
     Scene scene = load_scene(std::string(VFSD_SOURCE_DIR) + "/assets/scenes/fig05-box-bend-twist.json");
-    scene.twist_degrees[1] = 180.0;
+    scene.motion.twist_degrees[1] = 180.0;
     scene.options.fit_stream_gauge = scene.options.keep_volume = false;
     scene.options.tangent_smoothing = true;
     scene.options.smoothing_steps = 0;

@@ -268,13 +268,13 @@ TEST_CASE("stream_origin is \"curve\" or a point, and survives a save", "[hostil
         CHECK_THAT(message_of([&] { parse_scene(j, "", "o.json"); }), Catch::Contains("o.json: stream_origin: expected"));
     }
     j["stream_origin"] = "curve";
-    CHECK_FALSE(parse_scene(j, "", "o.json").stream_origin.has_value());
+    CHECK_FALSE(parse_scene(j, "", "o.json").motion.stream_origin.has_value());
     j["stream_origin"] = {0.1, 0.2, -0.1};
     const Scene scene = parse_scene(j, "", "o.json");
-    REQUIRE(scene.stream_origin.has_value());
-    CHECK(*scene.stream_origin == Vec3(0.1, 0.2, -0.1));
+    REQUIRE(scene.motion.stream_origin.has_value());
+    CHECK(*scene.motion.stream_origin == Vec3(0.1, 0.2, -0.1));
     const Scene again = parse_scene(scene_to_json(scene), "", "o.json");
-    REQUIRE(again.stream_origin.has_value());
-    CHECK(*again.stream_origin == *scene.stream_origin);
-    CHECK(scene_motion(again).at(0.5).stream_origin == Vec3(0.1, 0.2, -0.1));
+    REQUIRE(again.motion.stream_origin.has_value());
+    CHECK(*again.motion.stream_origin == *scene.motion.stream_origin);
+    CHECK(build_motion(again.motion).at(0.5).stream_origin == Vec3(0.1, 0.2, -0.1));
 }

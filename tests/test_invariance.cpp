@@ -53,30 +53,30 @@ Scene box_scene(RegionSpec::Kind region_kind, int variant, const MeshFile& file)
     }
     switch (variant) {
         case 0:  // a bend with a positive twist, rotation mode
-            scene.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.9}, {0.3, 0.1, 1.2}, {0.7, 0.2, 1.3}};
-            scene.twist_degrees[1] = 90.0;
+            scene.motion.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.9}, {0.3, 0.1, 1.2}, {0.7, 0.2, 1.3}};
+            scene.motion.twist_degrees[1] = 90.0;
             break;
         case 1:  // translation mode, a negative twist, a zero start tangent
-            scene.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.6}, {0.2, -0.3, 0.9}, {0.4, -0.3, 1.0}};
-            scene.inner_motion = InnerMotionMode::Translation;
-            scene.twist_degrees[0] = 10.0, scene.twist_degrees[1] = -60.0;
+            scene.motion.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.6}, {0.2, -0.3, 0.9}, {0.4, -0.3, 1.0}};
+            scene.motion.inner_motion = InnerMotionMode::Translation;
+            scene.motion.twist_degrees[0] = 10.0, scene.motion.twist_degrees[1] = -60.0;
             break;
         case 2:  // two segments, a fixed stream origin and twist plane
-            scene.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.8}, {0.1, 0, 1.0}, {0.3, 0, 1.0},
-                                  {0.5, 0, 1.0}, {0.6, 0.2, 0.9}, {0.6, 0.4, 0.8}};
-            scene.twist_degrees[1] = -120.0;
-            scene.twist_plane = -0.4;
-            scene.stream_origin = Vec3(0.0, 0.0, 0.3);
+            scene.motion.curve.bezier = {{0, 0, 0.6}, {0, 0, 0.8}, {0.1, 0, 1.0}, {0.3, 0, 1.0},
+                                         {0.5, 0, 1.0}, {0.6, 0.2, 0.9}, {0.6, 0.4, 0.8}};
+            scene.motion.twist_degrees[1] = -120.0;
+            scene.motion.twist_plane = -0.4;
+            scene.motion.stream_origin = Vec3(0.0, 0.0, 0.3);
             break;
         case 3:  // a handle moved and turned (eq. 17)
-            scene.curve.is_handle = true;
-            scene.curve.from = {Vec3(0, 0, 0.6), Vec3(0, 0, 1), Vec3(1, 0, 0)};
-            scene.curve.to = {Vec3(0.3, 0.2, 0.9), glm::normalize(Vec3(0.5, 0, 1)), Vec3(0, 1, 0)};
+            scene.motion.curve.is_handle = true;
+            scene.motion.curve.from = {Vec3(0, 0, 0.6), Vec3(0, 0, 1), Vec3(1, 0, 0)};
+            scene.motion.curve.to = {Vec3(0.3, 0.2, 0.9), glm::normalize(Vec3(0.5, 0, 1)), Vec3(0, 1, 0)};
             break;
         default:  // a handle turned in place (eq. 5 about h)
-            scene.curve.is_handle = true;
-            scene.curve.from = {Vec3(0, 0, 0.6), Vec3(0, 0, 1), Vec3(1, 0, 0)};
-            scene.curve.to = {Vec3(0, 0, 0.6), glm::normalize(Vec3(0, 0.6, 1)), Vec3(1, 0, 0)};
+            scene.motion.curve.is_handle = true;
+            scene.motion.curve.from = {Vec3(0, 0, 0.6), Vec3(0, 0, 1), Vec3(1, 0, 0)};
+            scene.motion.curve.to = {Vec3(0, 0, 0.6), glm::normalize(Vec3(0, 0.6, 1)), Vec3(1, 0, 0)};
             break;
     }
     return scene;
@@ -152,13 +152,13 @@ TEST_CASE("a scene scaled by 1e-3 or 1e3 deforms into the scaled result", "[inva
 TEST_CASE("place_scene: a box selector turned off the axes is refused, a mirror negates the twist", "[invariance]") {
     Scene scene;
     scene.region.inner = {Selector{SelectorKind::box, Vec3(-1.0), Vec3(1.0), 0.0, {}}};
-    scene.twist_degrees[0] = 5.0, scene.twist_degrees[1] = 30.0;
+    scene.motion.twist_degrees[0] = 5.0, scene.motion.twist_degrees[1] = 30.0;
     CHECK_THROWS_WITH(place_scene(scene, turned(1.0, false)), Catch::Contains("box selector"));
     Placement flip;
     flip.rotation = glm::dmat3(1, 0, 0, 0, -1, 0, 0, 0, 1);
     const Scene mirrored = place_scene(scene, flip);
-    CHECK(mirrored.twist_degrees[0] == -5.0);
-    CHECK(mirrored.twist_degrees[1] == -30.0);
+    CHECK(mirrored.motion.twist_degrees[0] == -5.0);
+    CHECK(mirrored.motion.twist_degrees[1] == -30.0);
     CHECK(mirrored.region.inner[0].a == Vec3(-1.0, -1.0, -1.0));
     CHECK(mirrored.region.inner[0].b == Vec3(1.0));
 }

@@ -253,7 +253,7 @@ bool gizmo(const CommandArgs& a, CommandContext& c) {
 }
 
 // A curve setting changed: one undo step, or part of the slider drag under way.
-void change_curve(const CommandArgs& a, CommandContext& c, const CurveSettings& curve) {
+void change_curve(const CommandArgs& a, CommandContext& c, const MotionSpec& curve) {
     if (a.boolean_or("gesture", false) && !c.settings.curve_gesture) {
         c.settings.curve_gesture = true;
         c.session.begin_curve_gesture();
@@ -262,7 +262,7 @@ void change_curve(const CommandArgs& a, CommandContext& c, const CurveSettings& 
 }
 
 bool twist(const CommandArgs& a, CommandContext& c) {
-    CurveSettings curve = c.session.curve();
+    MotionSpec curve = c.session.curve();
     const glm::dvec2 alpha = a.pair("alpha");
     curve.twist_degrees[0] = alpha[0];
     curve.twist_degrees[1] = alpha[1];
@@ -271,7 +271,7 @@ bool twist(const CommandArgs& a, CommandContext& c) {
 }
 
 bool inner_motion(const CommandArgs& a, CommandContext& c) {
-    CurveSettings curve = c.session.curve();
+    MotionSpec curve = c.session.curve();
     curve.inner_motion = a.text("mode") == "rotation" ? InnerMotionMode::Rotation : InnerMotionMode::Translation;
     change_curve(a, c, curve);
     return true;

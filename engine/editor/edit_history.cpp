@@ -2,17 +2,6 @@
 
 namespace vfsd::editor {
 
-bool operator==(const CurveSettings& a, const CurveSettings& b) {
-    const auto frame_equal = [](const HandleFrame& x, const HandleFrame& y) {
-        return x.position == y.position && x.normal == y.normal && x.binormal == y.binormal;
-    };
-    return a.curve.is_handle == b.curve.is_handle && a.curve.bezier == b.curve.bezier &&
-           frame_equal(a.curve.from, b.curve.from) && frame_equal(a.curve.to, b.curve.to) &&
-           a.inner_motion == b.inner_motion && a.twist_degrees[0] == b.twist_degrees[0] &&
-           a.twist_degrees[1] == b.twist_degrees[1] && a.twist_plane == b.twist_plane &&
-           a.stream_origin == b.stream_origin;
-}
-
 void EditHistory::push(HistoryEntry entry) {
     done_.push_back(std::move(entry));
     undone_.clear();

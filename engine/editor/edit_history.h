@@ -5,7 +5,6 @@
 // the history only orders them.
 
 #include <cstddef>
-#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -26,17 +25,6 @@ struct RegionSource {
     RegionSpec spec;  // Kind::spec only
 };
 
-// The curve (or handle) and the motion settings of a scene.
-struct CurveSettings {
-    CurveSpec curve;
-    InnerMotionMode inner_motion = InnerMotionMode::Rotation;
-    double twist_degrees[2] = {0.0, 0.0};
-    std::optional<double> twist_plane;
-    std::optional<Vec3> stream_origin;
-};
-
-bool operator==(const CurveSettings& a, const CurveSettings& b);
-
 // A region edit: the source before and after, and the painting that went with it
 // (possibly empty: a geodesic pick or a slider change only swaps the source).
 struct RegionChange {
@@ -44,8 +32,9 @@ struct RegionChange {
     RegionEdit paint;
 };
 
+// A curve edit: the scene's motion (curve or handle and its settings) before and after.
 struct CurveChange {
-    CurveSettings before, after;
+    MotionSpec before, after;
 };
 
 // "Apply": the deformed positions become the base mesh; the region is kept as the
@@ -53,7 +42,7 @@ struct CurveChange {
 struct BakeChange {
     std::vector<Vec3> before, after;
     RegionSource region_before, region_after;
-    CurveSettings curve_before, curve_after;
+    MotionSpec motion_before, motion_after;
     bool baked_before = false;
 };
 

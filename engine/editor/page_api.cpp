@@ -133,7 +133,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
     const EditorSession& s = editor.session();
     const ToolController& tools = editor.tools();
     const ScriptRunner* script = editor.script();
-    const CurveSettings& c = s.curve();
+    const MotionSpec& c = s.curve();
     return {{"stats", stats_json(editor)},
             {"backend_reason", s.stats().backend_reason},
             {"renderer", page.renderer},

@@ -61,27 +61,6 @@ std::vector<std::string> mesh_warnings(const TriangleMesh& mesh) {
     return out;
 }
 
-CurveSettings settings_of(const Scene& scene) {
-    CurveSettings c;
-    c.curve = scene.curve;
-    c.inner_motion = scene.inner_motion;
-    c.twist_degrees[0] = scene.twist_degrees[0];
-    c.twist_degrees[1] = scene.twist_degrees[1];
-    c.twist_plane = scene.twist_plane;
-    c.stream_origin = scene.stream_origin;
-    return c;
-}
-
-Scene with_curve(Scene scene, const CurveSettings& c) {
-    scene.curve = c.curve;
-    scene.inner_motion = c.inner_motion;
-    scene.twist_degrees[0] = c.twist_degrees[0];
-    scene.twist_degrees[1] = c.twist_degrees[1];
-    scene.twist_plane = c.twist_plane;
-    scene.stream_origin = c.stream_origin;
-    return scene;
-}
-
 }  // namespace
 
 EditorSession::EditorSession(DeformationFactory gpu, std::string gpu_reason)
@@ -108,8 +87,8 @@ void EditorSession::open_scene(const Scene& scene) {
     doc.file = load_mesh_file(scene.mesh);
     doc.scene = scene;
     doc.region.kind = RegionSource::Kind::spec;
-    doc.region.spec = scene.region;
-    doc.curve = settings_of(scene);
+    doc.region.spec = std::move(doc.scene.region);
+    doc.scene.region = {};
     replace_document(std::move(doc));
 }
 
@@ -129,8 +108,8 @@ void EditorSession::open_mesh(const std::string& spec) {
     doc.region.spec.g_max = 0.45 * d;
     doc.scene.options.smoothing_steps = 40;  // as the paper-figure scenes: smoother blends
     const Vec3 c0 = p[top];
-    doc.curve.curve.bezier = {c0, c0 + d * Vec3(0.0, 0.0, 0.12), c0 + d * Vec3(0.08, 0.0, 0.22),
-                              c0 + d * Vec3(0.25, 0.0, 0.25)};
+    doc.scene.motion.curve.bezier = {c0, c0 + d * Vec3(0.0, 0.0, 0.12), c0 + d * Vec3(0.08, 0.0, 0.22),
+                                     c0 + d * Vec3(0.25, 0.0, 0.25)};
     replace_document(std::move(doc));
 }
 
@@ -147,7 +126,8 @@ void EditorSession::replace_document(Document doc) {
     doc.mesh_warnings = mesh_warnings(doc.file.mesh);
     std::vector<std::string> region_warnings;
     Region region = build_region(doc.region.spec, doc.file.mesh.positions, doc.rings, region_warnings);
-    InnerMotion motion = scene_motion(with_curve(doc.scene, doc.curve));
+    InnerMotion motion = build_motion(doc.scene.motion);
+    doc.scene.target_time = 0.0;  // a document opens at rest
     doc_ = std::move(doc);
     motion_ = std::move(motion);
     s_ = std::move(region.s);
@@ -157,19 +137,29 @@ void EditorSession::replace_document(Document doc) {
     diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
     if (!(diagonal_ > 0.0)) diagonal_ = 1.0;
     base_volume_ = signed_volume(doc_.file.mesh.positions, doc_.file.mesh.triangles);
-    set_target(0.0);
-    ++document_revision_;
     stats_.vertices = doc_.file.mesh.vertex_count();
     stats_.triangles = doc_.file.mesh.triangle_count();
     drop_deformation();
-    ++mesh_revision_, ++curve_revision_, ++positions_revision_;
+    changed(mesh_replaced);
     refresh_curve_warnings();
 }
 
+// The revisions' promises (session.h), kept in one place.
+void EditorSession::changed(unsigned what) {
+    if (what & mesh_replaced) what |= base_moved | region_edited | motion_edited | target_moved;
+    if (what & base_moved) what |= positions_moved;
+    if (what & mesh_replaced) ++mesh_revision_;
+    if (what & motion_edited) ++curve_revision_;
+    if (what & positions_moved) ++positions_revision_;
+    // What the view uploads and draws: positions(), s() and the curve.
+    if (what & (positions_moved | region_edited | motion_edited)) ++revision_;
+    // What save_scene() writes; time advancing toward the target is not a change.
+    if (what & (base_moved | region_edited | motion_edited | target_moved)) ++document_revision_;
+}
+
 Scene EditorSession::current_scene() const {
-    Scene scene = with_curve(doc_.scene, doc_.curve);
+    Scene scene = doc_.scene;
     scene.region = region_spec();
-    scene.target_time = target_;
     return scene;
 }
 
@@ -213,7 +203,7 @@ void EditorSession::region_changed() {
     s_ = build_region(region_spec(), doc_.file.mesh.positions, doc_.rings, warnings).s;
     region_warnings_ = std::move(warnings);
     drop_deformation();
-    ++document_revision_;
+    changed(region_edited);
     refresh_curve_warnings();
 }
 
@@ -316,43 +306,43 @@ void EditorSession::set_region_from_loops(const SurfaceLoop& inner, const Surfac
 // ---- curve -----------------------------------------------------------------
 
 void EditorSession::curve_changed() {
-    motion_ = scene_motion(with_curve(doc_.scene, doc_.curve));
+    motion_ = build_motion(doc_.scene.motion);
     drop_deformation();
-    ++curve_revision_, ++document_revision_;
+    changed(motion_edited);
     refresh_curve_warnings();
 }
 
-void EditorSession::set_curve(const CurveSettings& settings) {
-    if (settings == doc_.curve) return;
-    scene_motion(with_curve(doc_.scene, settings));  // throws InputError for an invalid curve, before any change
-    const CurveSettings before = doc_.curve;
-    doc_.curve = settings;
+void EditorSession::set_curve(const MotionSpec& next) {
+    if (next == doc_.scene.motion) return;
+    build_motion(next);  // throws InputError for an invalid curve, before any change
+    const MotionSpec before = doc_.scene.motion;
+    doc_.scene.motion = next;
     curve_changed();
     if (curve_gesture_) curve_gesture_changed_ = true;
-    else history_.push({"edit curve", CurveChange{before, doc_.curve}});
+    else history_.push({"edit curve", CurveChange{before, doc_.scene.motion}});
 }
 
 void EditorSession::begin_curve_gesture() {
     curve_gesture_ = true;
     curve_gesture_changed_ = false;
-    pending_curve_ = doc_.curve;
+    pending_curve_ = doc_.scene.motion;
 }
 
 void EditorSession::end_curve_gesture(const std::string& label) {
     if (!curve_gesture_) return;
     curve_gesture_ = false;
-    if (curve_gesture_changed_ && !(pending_curve_ == doc_.curve))
-        history_.push({label, CurveChange{pending_curve_, doc_.curve}});
+    if (curve_gesture_changed_ && pending_curve_ != doc_.scene.motion)
+        history_.push({label, CurveChange{pending_curve_, doc_.scene.motion}});
 }
 
 std::vector<Vec3> EditorSession::control_points() const {
-    const CurveSpec& c = doc_.curve.curve;
+    const CurveSpec& c = doc_.scene.motion.curve;
     if (c.is_handle) return {c.from.position, c.to.position};
     return c.bezier;
 }
 
 void EditorSession::move_control_point(std::size_t index, const Vec3& position) {
-    CurveSettings next = doc_.curve;
+    MotionSpec next = doc_.scene.motion;
     if (next.curve.is_handle) {
         if (index == 0) next.curve.from.position = position;
         else if (index == 1) next.curve.to.position = position;
@@ -367,7 +357,7 @@ void EditorSession::move_control_point(std::size_t index, const Vec3& position) 
 }
 
 void EditorSession::add_segment() {
-    CurveSettings next = doc_.curve;
+    MotionSpec next = doc_.scene.motion;
     auto& b = next.curve.bezier;
     if (next.curve.is_handle || b.size() < 4) return;
     // Continue along the last tangent, so the join is C1.
@@ -379,14 +369,14 @@ void EditorSession::add_segment() {
 }
 
 void EditorSession::remove_segment() {
-    CurveSettings next = doc_.curve;
+    MotionSpec next = doc_.scene.motion;
     if (next.curve.is_handle || next.curve.bezier.size() < 7) return;
     next.curve.bezier.resize(next.curve.bezier.size() - 3);
     set_curve(next);
 }
 
 void EditorSession::use_handle(const HandleFrame& from, const HandleFrame& to) {
-    CurveSettings next = doc_.curve;
+    MotionSpec next = doc_.scene.motion;
     next.curve.is_handle = true;
     next.curve.from = from;
     next.curve.to = to;
@@ -412,9 +402,9 @@ double EditorSession::time() const { return deformation_ ? deformation_->time() 
 void EditorSession::set_target_time(double t) { set_target(std::clamp(t, 0.0, 1.0)); }
 
 void EditorSession::set_target(double t) {
-    if (t == target_) return;
-    target_ = t;
-    ++document_revision_;
+    if (t == doc_.scene.target_time) return;
+    doc_.scene.target_time = t;
+    changed(target_moved);
 }
 
 void EditorSession::play() {
@@ -438,7 +428,7 @@ void EditorSession::set_force_cpu(bool cpu) {
 void EditorSession::drop_deformation() {
     // The next deformation starts afresh: the last one's error goes with it.
     runtime_error_.clear();
-    if (deformation_) ++positions_revision_;  // back to the base positions
+    if (deformation_) changed(positions_moved);  // back to the base positions
     deformation_.reset();
     prepared_.reset();
     stats_.ms_per_step = 0.0;
@@ -447,7 +437,6 @@ void EditorSession::drop_deformation() {
     folded_.clear();
     stats_.first_fold_time = -1.0;
     predict_backend();
-    ++revision_;
 }
 
 void EditorSession::ensure_deformation() {
@@ -467,13 +456,13 @@ void EditorSession::ensure_deformation() {
 }
 
 int EditorSession::update(int max_steps) {
-    if (time() == target_) return 0;
+    if (time() == target_time()) return 0;
     int taken = 0;
     try {
         ensure_deformation();
-        taken = deformation_->advance(target_, max_steps);
+        taken = deformation_->advance(target_time(), max_steps);
         if (taken > 0) {
-            ++revision_, ++positions_revision_;
+            changed(positions_moved);
             update_stats();
         }
     } catch (const std::exception& e) {
@@ -523,25 +512,25 @@ void EditorSession::apply() {
     bake.region_after.kind = RegionSource::Kind::spec;
     bake.region_after.spec.kind = RegionSpec::Kind::field;
     bake.region_after.spec.s = s_;
-    bake.curve_before = doc_.curve;
-    bake.curve_after = doc_.curve;
+    bake.motion_before = doc_.scene.motion;
+    bake.motion_after = doc_.scene.motion;
     bake.baked_before = doc_.baked;
     // The next deformation starts where this one ended: a straight curve along the
     // end tangent (handle mode: the handle at its target, moved along its normal).
     const double length = std::max(0.25 * motion_.curve().polygon_length(), 0.05 * diagonal_);
-    if (bake.curve_after.curve.is_handle) {
-        HandleFrame& from = bake.curve_after.curve.from;
-        from = bake.curve_after.curve.to;
-        bake.curve_after.curve.to.position = from.position + length * from.normal;
+    if (bake.motion_after.curve.is_handle) {
+        HandleFrame& from = bake.motion_after.curve.from;
+        from = bake.motion_after.curve.to;
+        bake.motion_after.curve.to.position = from.position + length * from.normal;
     } else {
         const CurvePoint end = motion_.curve().at(1.0);
         const double speed = glm::length(end.d1);
         const Vec3 tangent = speed > 0.0 ? end.d1 / speed : Vec3(0.0, 0.0, 1.0);
-        auto& b = bake.curve_after.curve.bezier;
+        auto& b = bake.motion_after.curve.bezier;
         b.clear();
         for (int k = 0; k <= 3; ++k) b.push_back(end.position + (length * k / 3.0) * tangent);
     }
-    bake.curve_after.twist_degrees[0] = bake.curve_after.twist_degrees[1] = 0.0;
+    bake.motion_after.twist_degrees[0] = bake.motion_after.twist_degrees[1] = 0.0;
     apply_edit(bake, true);
     history_.push({"apply deformation", std::move(bake)});
     set_target(0.0);
@@ -554,16 +543,16 @@ void EditorSession::apply_edit(const Edit& edit, bool forward) {
         doc_.region = forward ? r->after : r->before;
         region_changed();
     } else if (const auto* c = std::get_if<CurveChange>(&edit)) {
-        doc_.curve = forward ? c->after : c->before;
+        doc_.scene.motion = forward ? c->after : c->before;
         curve_changed();
     } else if (const auto* b = std::get_if<BakeChange>(&edit)) {
         doc_.file.mesh.positions = forward ? b->after : b->before;
-        ++positions_revision_;
         doc_.baked = forward ? true : b->baked_before;
         doc_.region = forward ? b->region_after : b->region_before;
-        doc_.curve = forward ? b->curve_after : b->curve_before;
+        doc_.scene.motion = forward ? b->motion_after : b->motion_before;
         diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
         base_volume_ = signed_volume(doc_.file.mesh.positions, doc_.file.mesh.triangles);
+        changed(base_moved);
         region_changed();
         curve_changed();
     }

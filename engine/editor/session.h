@@ -85,10 +85,11 @@ public:
     // Inner = seed side of `inner`, outer = beyond `outer` (boundary_cut.h); throws InputError.
     void set_region_from_loops(const SurfaceLoop& inner, const SurfaceLoop& outer, const SurfacePoint& seed);
 
-    // Curve tools, with the same gesture rule.
+    // Curve tools, with the same gesture rule. They edit the scene's motion: the
+    // curve (or handle) and its settings.
     void begin_curve_gesture();
     void end_curve_gesture(const std::string& label);
-    void set_curve(const CurveSettings& settings);
+    void set_curve(const MotionSpec& next);
     // The draggable points: Bézier control points, or (handle mode) from and to positions.
     std::vector<Vec3> control_points() const;
     void move_control_point(std::size_t index, const Vec3& position);
@@ -100,9 +101,9 @@ public:
     // Time. The deformation integrates toward the target in update(); an edit of
     // the region or curve restarts it from t = 0 (the target stays).
     void set_target_time(double t);
-    double target_time() const { return target_; }
+    double target_time() const { return doc_.scene.target_time; }
     double time() const;
-    bool moving() const { return time() != target_; }
+    bool moving() const { return time() != target_time(); }
     void play();   // target 1 (from 0 again when already there)
     void pause();  // target = current time
     void reset();  // back to t = 0 at once
@@ -123,7 +124,8 @@ public:
     const std::vector<double>& s() const { return s_; }
     const RegionSource& region() const { return doc_.region; }
     const RegionPaint& paint() const { return doc_.paint; }
-    const CurveSettings& curve() const { return doc_.curve; }
+    // The curve (or handle) and its settings: the scene's motion, as set_curve takes it.
+    const MotionSpec& curve() const { return doc_.scene.motion; }
     // The motion of the current curve (for drawing it); empty when it is invalid.
     const InnerMotion& motion() const { return motion_; }
     const std::string& mesh_name() const { return doc_.scene.mesh; }
@@ -132,6 +134,7 @@ public:
     // The surface under a ray at positions(): the editors' one way to pick it
     // (a SurfacePicker following mesh_revision() and positions_revision()).
     std::optional<SurfaceHit> pick_surface(const Ray& ray) const;
+    // Each edit tells changed() (private, below) what it changed; only it bumps these.
     // Bumped whenever positions() or s() change (the view re-uploads), when the
     // mesh is replaced (new triangles), and when the curve changes.
     std::uint64_t revision() const { return revision_; }
@@ -154,19 +157,33 @@ public:
     void set_autosave_warning(std::string text) { autosave_warning_ = std::move(text); }
 
     void set_force_cpu(bool cpu);
-    DeformationOptions& options() { return doc_.scene.options; }
+    const DeformationOptions& options() const { return doc_.scene.options; }
 
 private:
     struct Document {
         MeshFile file;
         VertexRings rings;
-        Scene scene;  // mesh name, options; region and curve live below
+        // The truth for the mesh name, the options, the target time and the motion.
+        // Its region stays empty: `region` and `paint` define the region (painting
+        // needs labels), and current_scene() fills it in from them (region_spec()).
+        Scene scene;
         RegionSource region;
         RegionPaint paint;
-        CurveSettings curve;
         bool baked = false;  // base positions differ from the mesh file's
         std::vector<std::string> mesh_warnings;
     };
+
+    // What an edit changed. changed() is the one place that turns it into the
+    // revisions above (what invalidates what); each mutation calls it.
+    enum Change : unsigned {
+        mesh_replaced = 1u << 0,    // a new document: new triangles, and everything below
+        base_moved = 1u << 1,       // new base positions (apply, and its undo)
+        region_edited = 1u << 2,    // the region source or paint, hence s
+        motion_edited = 1u << 3,    // the curve or handle, or its settings
+        target_moved = 1u << 4,     // the target time
+        positions_moved = 1u << 5,  // positions() moved: steps taken, or back to the base
+    };
+    void changed(unsigned what);
 
     void replace_document(Document doc);
     RegionSpec region_spec() const;
@@ -198,11 +215,10 @@ private:
     bool region_gesture_ = false, curve_gesture_ = false;
     bool region_gesture_changed_ = false, curve_gesture_changed_ = false;
     RegionChange pending_region_;
-    CurveSettings pending_curve_;
+    MotionSpec pending_curve_;
 
     std::unique_ptr<PreparedScene> prepared_;
     std::optional<Deformation> deformation_;
-    double target_ = 0.0;
     SessionStats stats_;
     std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1, document_revision_ = 1;
     std::uint64_t positions_revision_ = 1;

@@ -249,20 +249,20 @@ BatteryScene generate_battery_scene(std::uint64_t seed, int index, const std::ve
     const double length = amp * rng.uniform(0.2, 1.0) * 2.0 * layout.inner;  // up to the inner region's size
     if (rng.chance(0.25)) {  // a handle moved and turned (sec. 6.2)
         b.motion_kind = "handle";
-        scene.curve.is_handle = true;
+        scene.motion.curve.is_handle = true;
         const Vec3 w = perpendicular(layout.direction);
-        scene.curve.from = {start, layout.direction, w};
+        scene.motion.curve.from = {start, layout.direction, w};
         const glm::dmat3 turn = rng.rotation(amp * 90.0 * kDegrees);
         const Vec3 move = glm::normalize(layout.direction + 0.7 * rng.unit_vector());
-        scene.curve.to = {start + length * move, turn * layout.direction, turn * w};
+        scene.motion.curve.to = {start + length * move, turn * layout.direction, turn * w};
         b.bend_degrees = std::acos(std::clamp(glm::dot(layout.direction, turn * layout.direction), -1.0, 1.0)) / kDegrees;
     } else {
         const int pieces = 1 + static_cast<int>(rng.below(3));
         b.motion_kind = "curve" + std::to_string(pieces);
         b.bend_degrees = amp * rng.uniform(0.0, 180.0);
-        scene.curve.bezier = bent_curve(rng, start, layout.direction, pieces, length, b.bend_degrees * kDegrees);
-        scene.twist_degrees[1] = b.twist_degrees = amp * rng.uniform(-180.0, 180.0);
-        if (rng.chance(0.3)) scene.inner_motion = InnerMotionMode::Translation;
+        scene.motion.curve.bezier = bent_curve(rng, start, layout.direction, pieces, length, b.bend_degrees * kDegrees);
+        scene.motion.twist_degrees[1] = b.twist_degrees = amp * rng.uniform(-180.0, 180.0);
+        if (rng.chance(0.3)) scene.motion.inner_motion = InnerMotionMode::Translation;
     }
     b.move_over_inner = length / (2.0 * layout.inner);
 

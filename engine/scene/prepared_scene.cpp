@@ -104,8 +104,8 @@ PreparedScene prepare_scene(const Scene& scene, MeshFile file) {
     }
     p.rings = build_vertex_rings(p.file.mesh);
     p.region = build_region(scene.region, p.file.mesh.positions, p.rings, p.warnings);
-    p.motion = scene_motion(scene);
-    if (!scene.twist_plane && !p.motion.is_fixed_rotation())
+    p.motion = build_motion(scene.motion);
+    if (!scene.motion.twist_plane && !p.motion.is_fixed_rotation())
         p.motion.set_twist_plane(far_end_of_moving_part(p.motion, p.file.mesh.positions, p.region.s));
     warn_about_motion(p, p.warnings);
     return p;

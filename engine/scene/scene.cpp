@@ -10,8 +10,6 @@
 namespace vfsd {
 namespace {
 
-constexpr double kDegrees = 3.14159265358979323846 / 180.0;
-
 using json = nlohmann::json;
 
 // Reads scene fields with errors that name the field.
@@ -126,29 +124,36 @@ CurveSpec parse_curve(const Reader& in, const json& j) {
     return c;
 }
 
-void parse_motion_and_options(const Reader& in, const json& j, Scene& scene) {
+// The keys of MotionSpec: "curve" (required) and the motion settings around it.
+MotionSpec parse_motion(const Reader& in, const json& j) {
+    MotionSpec m;
+    m.curve = parse_curve(in, in.member(j, "curve", "scene"));
     if (j.contains("inner_motion")) {
         const std::string mode = in.string(j["inner_motion"], "inner_motion");
-        if (mode == "rotation") scene.inner_motion = InnerMotionMode::Rotation;
-        else if (mode == "translation") scene.inner_motion = InnerMotionMode::Translation;
+        if (mode == "rotation") m.inner_motion = InnerMotionMode::Rotation;
+        else if (mode == "translation") m.inner_motion = InnerMotionMode::Translation;
         else in.fail("inner_motion", "expected \"rotation\" or \"translation\", got \"" + mode + "\"");
     }
     if (j.contains("twist_degrees")) {
         const json& t = j["twist_degrees"];
         if (!t.is_array() || t.size() != 2) in.fail("twist_degrees", "expected [alpha0, alpha1]");
-        scene.twist_degrees[0] = in.number(t[0], "twist_degrees");
-        scene.twist_degrees[1] = in.number(t[1], "twist_degrees");
+        m.twist_degrees[0] = in.number(t[0], "twist_degrees");
+        m.twist_degrees[1] = in.number(t[1], "twist_degrees");
     }
     if (j.contains("twist_plane")) {
         const json& plane = j["twist_plane"];
-        if (plane == "curve") scene.twist_plane = 0.0;
-        else if (plane.is_number()) scene.twist_plane = in.number(plane, "twist_plane");
+        if (plane == "curve") m.twist_plane = 0.0;
+        else if (plane.is_number()) m.twist_plane = in.number(plane, "twist_plane");
         else if (plane != "region") in.fail("twist_plane", "expected \"region\", \"curve\" or a number");
     }
     if (j.contains("stream_origin") && j["stream_origin"] != "curve") {
         if (!j["stream_origin"].is_array()) in.fail("stream_origin", "expected \"curve\" or [x, y, z]");
-        scene.stream_origin = in.vec3(j["stream_origin"], "stream_origin");
+        m.stream_origin = in.vec3(j["stream_origin"], "stream_origin");
     }
+    return m;
+}
+
+void parse_options(const Reader& in, const json& j, Scene& scene) {
     if (j.contains("steps")) scene.options.steps = in.integer(j["steps"], "steps", 1, 1000000);
     if (j.contains("smoothing_steps")) scene.options.smoothing_steps = in.integer(j["smoothing_steps"], "smoothing_steps", 0, 10000);
     if (j.contains("stream_gauge")) {
@@ -181,8 +186,8 @@ Scene parse_scene(const json& j, const std::string& base_dir, const std::string&
     if (scene.mesh.rfind("builtin:", 0) != 0 && !base_dir.empty() && std::filesystem::path(scene.mesh).is_relative())
         scene.mesh = (std::filesystem::path(base_dir) / scene.mesh).lexically_normal().string();
     scene.region = parse_region(in, in.member(j, "region", "scene"));
-    scene.curve = parse_curve(in, in.member(j, "curve", "scene"));
-    parse_motion_and_options(in, j, scene);
+    scene.motion = parse_motion(in, j);
+    parse_options(in, j, scene);
     return scene;
 }
 
@@ -208,16 +213,6 @@ Scene load_scene(const std::string& path) {
     text << file.rdbuf();
     if (file.bad()) throw IoError(path + ": cannot read the scene file");
     return parse_scene(parse_scene_json(text.str(), path), std::filesystem::path(path).parent_path().string(), path);
-}
-
-InnerMotion scene_motion(const Scene& scene) {
-    InnerMotion motion = scene.curve.is_handle
-                             ? handle_motion(scene.curve.from, scene.curve.to)
-                             : InnerMotion::along_curve(BezierCurve(scene.curve.bezier), scene.inner_motion,
-                                                        scene.twist_degrees[0] * kDegrees, scene.twist_degrees[1] * kDegrees);
-    if (scene.twist_plane) motion.set_twist_plane(*scene.twist_plane);
-    motion.set_stream_origin(scene.stream_origin);
-    return motion;
 }
 
 }  // namespace vfsd
@@ -267,18 +262,19 @@ nlohmann::json scene_to_json(const Scene& scene) {
     j["region"] = region_json(scene.region);
     if (scene.region.kind == RegionSpec::Kind::painted || scene.region.kind == RegionSpec::Kind::geodesic)
         j["region"]["smoothing_iterations"] = scene.region.geodesic.smoothing_iterations;
-    if (scene.curve.is_handle) {
-        j["curve"] = {{"handle", {{"from", frame_json(scene.curve.from)}, {"to", frame_json(scene.curve.to)}}}};
+    const MotionSpec& m = scene.motion;
+    if (m.curve.is_handle) {
+        j["curve"] = {{"handle", {{"from", frame_json(m.curve.from)}, {"to", frame_json(m.curve.to)}}}};
     } else {
         nlohmann::json points = nlohmann::json::array();
-        for (const Vec3& p : scene.curve.bezier) points.push_back(to_json(p));
+        for (const Vec3& p : m.curve.bezier) points.push_back(to_json(p));
         j["curve"] = {{"bezier", points}};
     }
-    j["inner_motion"] = scene.inner_motion == InnerMotionMode::Rotation ? "rotation" : "translation";
-    j["twist_degrees"] = {scene.twist_degrees[0], scene.twist_degrees[1]};
-    if (scene.twist_plane) j["twist_plane"] = *scene.twist_plane;
+    j["inner_motion"] = m.inner_motion == InnerMotionMode::Rotation ? "rotation" : "translation";
+    j["twist_degrees"] = {m.twist_degrees[0], m.twist_degrees[1]};
+    if (m.twist_plane) j["twist_plane"] = *m.twist_plane;
     else j["twist_plane"] = "region";
-    if (scene.stream_origin) j["stream_origin"] = to_json(*scene.stream_origin);
+    if (m.stream_origin) j["stream_origin"] = to_json(*m.stream_origin);
     else j["stream_origin"] = "curve";
     j["steps"] = scene.options.steps;
     j["smoothing_steps"] = scene.options.smoothing_steps;

@@ -19,16 +19,15 @@
 //   "smoothing": "space" | "tangent",                 //   fit, space, true; "paper", "tangent",
 //   "keep_volume": true | false }                     //   false is sec. 5 as printed
 
-#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "curve/handle.h"
 #include "deform/deformation.h"
 #include "region/geodesic.h"
 #include "region/selectors.h"
+#include "scene/motion_spec.h"
 
 namespace vfsd {
 
@@ -44,24 +43,10 @@ struct RegionSpec {
     std::vector<double> s;               // field: given per vertex
 };
 
-struct CurveSpec {
-    bool is_handle = false;
-    std::vector<Vec3> bezier;  // 3k+1 control points
-    HandleFrame from, to;      // handle mode (sec. 6.2)
-};
-
 struct Scene {
     std::string mesh;  // a path (resolved against the scene's folder) or builtin:NAME
     RegionSpec region;
-    CurveSpec curve;
-    InnerMotionMode inner_motion = InnerMotionMode::Rotation;
-    double twist_degrees[2] = {0.0, 0.0};
-    // Plane ẽ = 0 of the twist at this signed distance along ĉ from c; unset means
-    // "region": at the far end of the moving part (see InnerMotion::set_twist_plane).
-    std::optional<double> twist_plane;
-    // A fixed point the stream of eqs. (9)–(13) is built about; unset means "curve":
-    // c(t), as eq. (10) (see InnerMotion::set_stream_origin).
-    std::optional<Vec3> stream_origin;
+    MotionSpec motion;  // "curve", "inner_motion", "twist_degrees", "twist_plane", "stream_origin"
     DeformationOptions options;
     double target_time = 1.0;
 };
@@ -86,8 +71,5 @@ struct SceneKey {
     const char* default_value;  // "required" when it has none
 };
 const std::vector<SceneKey>& scene_keys();
-
-// The inner motion the scene's curve (or handle), mode and twist describe.
-InnerMotion scene_motion(const Scene& scene);
 
 }  // namespace vfsd

@@ -71,12 +71,13 @@ Scene place_scene(const Scene& scene, const Placement& p) {
     r.sphere.centre = p.point(r.sphere.centre);
     r.sphere.r_inner *= p.scale;
     r.sphere.r_outer *= p.scale;
-    for (Vec3& b : out.curve.bezier) b = p.point(b);
-    out.curve.from = place_frame(out.curve.from, p);
-    out.curve.to = place_frame(out.curve.to, p);
-    if (p.mirrors()) out.twist_degrees[0] = -scene.twist_degrees[0], out.twist_degrees[1] = -scene.twist_degrees[1];
-    if (out.twist_plane) *out.twist_plane *= p.scale;  // a signed distance along ĉ, which turns with the scene
-    if (out.stream_origin) out.stream_origin = p.point(*out.stream_origin);
+    MotionSpec& m = out.motion;
+    for (Vec3& b : m.curve.bezier) b = p.point(b);
+    m.curve.from = place_frame(m.curve.from, p);
+    m.curve.to = place_frame(m.curve.to, p);
+    if (p.mirrors()) m.twist_degrees[0] = -m.twist_degrees[0], m.twist_degrees[1] = -m.twist_degrees[1];
+    if (m.twist_plane) *m.twist_plane *= p.scale;  // a signed distance along ĉ, which turns with the scene
+    if (m.stream_origin) m.stream_origin = p.point(*m.stream_origin);
     return out;
 }
 
