@@ -186,6 +186,16 @@ void App::draw_tools_panel() {
         command("g-range", {{"g_min", g[0]}, {"g_max", g[1]}, {"gesture", true}});
     if (ImGui::IsItemDeactivated()) command("end-gesture");
     tooltip("Eq. (15): s = 0 within g_min of the picked vertex, 1 beyond g_max");
+    // The painted region's transition band; one undo step per drag.
+    float band = float(s.region_band());
+    ImGui::SetNextItemWidth(150);
+    if (ImGui::SliderFloat("band", &band, 0.0f, 0.5f * d, "%.3f")) command("region-band", {{"band", band}, {"gesture", true}});
+    if (ImGui::IsItemDeactivated()) command("end-gesture");
+    tooltip("Painted regions: an inner region alone blends over this width; where inner and outer meet,\n"
+            "the outer side gives it to the blend region. A warning says where the blend is too thin.");
+    ImGui::SameLine();
+    if (ImGui::Button("New region")) command("new-region");
+    tooltip("A clean painted region: nothing inner or outer yet. The curve follows the inner region you paint.");
     if (tools.tool == editor::Tool::loops) {
         ImGui::Text("loops: %zu closed, %zu points", tools.loops().size(), tools.loop_in_progress().size());
         if (ImGui::Button("Close loop")) command("close-loop");

@@ -129,3 +129,69 @@ TEST_CASE("EditHistory: undo of a curve edit restarts the deformation from t = 0
     run_to_target(session);
     CHECK(session.positions() == result);
 }
+
+TEST_CASE("Regions a user can reason about: the first stroke starts clean, the band blends, the curve follows",
+          "[editor][history][region]") {
+    EditorSession session;
+    session.open_mesh("builtin:bar");  // a geodesic region around the highest vertex
+    const double d = session.diagonal();
+    const std::vector<Vec3> curve_before = session.control_points();
+    const Snapshot opened = snapshot(session);
+    const auto& p = session.base_positions();
+    const std::size_t lowest = std::min_element(p.begin(), p.end(), [](const Vec3& a, const Vec3& b) {
+                                   return a.z < b.z;
+                               }) - p.begin();
+    BrushSettings inner;
+    inner.radius = 0.1 * d;
+    session.brush(at_vertex_nearest(session, p[lowest]), inner);
+
+    // Only what was painted is labelled: inner within the brush, no outer at all.
+    REQUIRE(session.region().kind == RegionSource::Kind::labels);
+    const std::vector<std::uint8_t>& labels = session.paint().labels;
+    for (std::size_t v = 0; v < labels.size(); ++v) {
+        CHECK(labels[v] != std::uint8_t(RegionLabel::outer));
+        if (labels[v] == std::uint8_t(RegionLabel::inner)) CHECK(glm::length(p[v] - p[lowest]) <= inner.radius * 1.001);
+    }
+    // The inner region alone blends over the default band: s is 0 there, 1 far off, between in the band.
+    CHECK(session.region_band() == Approx(EditorSession::kDefaultBandFraction * d));
+    std::size_t blend = 0;
+    for (std::size_t v = 0; v < labels.size(); ++v) {
+        if (labels[v] == std::uint8_t(RegionLabel::inner)) CHECK(session.s()[v] == 0.0);
+        if (glm::length(p[v] - p[lowest]) > inner.radius + session.region_band() * 1.5) CHECK(session.s()[v] == 1.0);
+        blend += session.s()[v] > 0.0 && session.s()[v] < 1.0;
+    }
+    CHECK(blend > 0);
+
+    // The curve starts at the new inner region's centroid, its shape kept.
+    const std::vector<Vec3> curve_after = session.control_points();
+    Vec3 centroid(0.0);
+    int count = 0;
+    for (std::size_t v = 0; v < p.size(); ++v)
+        if (session.s()[v] <= 0.0) centroid += p[v], ++count;
+    centroid /= double(count);
+    CHECK(glm::length(curve_after.front() - centroid) < 1e-9 * d);
+    for (std::size_t i = 0; i < curve_after.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+            CHECK(glm::length(curve_after[i] - curve_after[j]) ==
+                  Approx(glm::length(curve_before[i] - curve_before[j])).epsilon(1e-9));
+
+    // One undo step brings region and curve back; redo repeats both.
+    const Snapshot painted = snapshot(session);
+    REQUIRE(session.undo());
+    CHECK(snapshot(session) == opened);
+    REQUIRE(session.redo());
+    CHECK(snapshot(session) == painted);
+
+    // A wider band widens the blend; a new region is clean again; each one undo step.
+    session.set_region_band(2.0 * session.region_band());
+    std::size_t wider = 0;
+    for (const double s : session.s()) wider += s > 0.0 && s < 1.0;
+    CHECK(wider > blend);
+    session.new_region();
+    for (const std::uint8_t l : session.paint().labels) CHECK(l == 0);
+    CHECK(session.history().undo_count() == 3);
+    REQUIRE(session.undo());
+    REQUIRE(session.undo());
+    CHECK(snapshot(session) == painted);
+    CHECK_THROWS_AS(session.set_region_band(-1.0), InputError);
+}

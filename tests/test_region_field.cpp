@@ -167,3 +167,30 @@ TEST_CASE("painted regions that touch: a warning says where, a band opens the tr
     for (std::size_t i = 20; i < 28; ++i) CHECK(banded.s[row + i + 1] > banded.s[row + i]);
     CHECK_THROWS_WITH(painted_region_field(m.positions, rings, inner, outer, {}, -1.0), Catch::Contains("band"));
 }
+
+TEST_CASE("an inner region painted alone blends over the band; without one its whole piece moves", "[region][field]") {
+    const TriangleMesh m = grid_mesh(40, 1.0);
+    const VertexRings rings = build_vertex_rings(m);
+    for (const double corner : {0.2, 0.35}) {  // inner: the square [0, corner)²
+        std::vector<std::uint8_t> inner(m.positions.size(), 0);
+        for (std::size_t v = 0; v < inner.size(); ++v)
+            inner[v] = m.positions[v].x < corner - 1e-9 && m.positions[v].y < corner - 1e-9;
+        const std::vector<std::uint8_t> none(m.positions.size(), 0);
+        const RegionField hard = painted_region_field(m.positions, rings, inner, none);
+        for (std::size_t v = 0; v < m.positions.size(); ++v) CHECK(hard.s[v] == 0.0);  // no outer: all inner
+        for (const double band : {0.1, 0.25}) {
+            INFO("corner " << corner << ", band " << band);
+            const RegionField alone = painted_region_field(m.positions, rings, inner, none, {}, band);
+            CHECK(blend_ring_width(alone.s, rings) >= kThinBlendRings);
+            CHECK(alone.warnings.empty());
+            for (std::size_t v = 0; v < m.positions.size(); ++v) {
+                // Distance to the inner square (geodesic ≈ Euclidean on the flat sheet).
+                const Vec3& p = m.positions[v];
+                const double d = std::hypot(std::max(0.0, p.x - corner), std::max(0.0, p.y - corner));
+                if (inner[v]) CHECK(alone.s[v] == 0.0);
+                else if (d >= band) CHECK(alone.s[v] == 1.0);  // geodesic ≥ Euclidean
+                else if (d <= 0.65 * band) CHECK((alone.s[v] > 0.0 && alone.s[v] < 1.0));  // the grid's geodesic runs up to √2 long
+            }
+        }
+    }
+}

@@ -44,14 +44,15 @@ int run(const std::string& command) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// The session of the issue, in the 1280 x 800 window with the default scene
-// (fig. 4's box): the side of the box is around x = 520, y = 580.
+// A first session in the 1280 x 800 window with the default scene (fig. 4's box):
+// the top face, around x = 570, y = 440, painted inner (the first stroke starts a
+// clean painted region, which the curve follows), the curve's end dragged.
 std::string session_script(const Scratch& s, const std::string& tag) {
     const std::string p = s.file(tag);
     return "{\"action\": \"wait-frames\", \"n\": 2}\n"
            "{\"action\": \"expect\", \"time\": 0}\n"
            "{\"action\": \"screenshot\", \"path\": \"" + p + "-start.png\", \"ui\": false}\n"
-           "{\"action\": \"paint\", \"tool\": \"inner\", \"radius\": 0.12, \"points\": [[470, 560], [520, 585], [570, 600]]}\n"
+           "{\"action\": \"paint\", \"tool\": \"inner\", \"radius\": 0.25, \"points\": [[520, 430], [570, 440], [620, 450]]}\n"
            "{\"action\": \"drag\", \"index\": 3, \"to\": [770, 240]}\n"
            "{\"action\": \"set-time\", \"t\": 1}\n"
            "{\"action\": \"wait-until-time\", \"t\": 1}\n"
@@ -157,7 +158,7 @@ TEST_CASE("vfsd-desktop: a scripted session matches vfsd deform and shows the re
         CHECK(start.red > 500);
         CHECK(start.dark > 100);  // the curve above the box
         const Colours end = count_colours(s.file(backend + "-end.png"), 345);
-        CHECK(end.blue > 2000);
+        CHECK(end.blue > 500);  // the painted top face, turned
         CHECK(end.red > 2000);
         CHECK(end.dark > 20);  // the control polygon
     }
@@ -190,7 +191,7 @@ TEST_CASE("vfsd-desktop: after a crash the restarted editor restores the autosav
     // Edit, write the autosave, then end as a crash would (no clean exit).
     const std::string edit =
         "{\"action\": \"wait-frames\", \"n\": 2}\n"
-        "{\"action\": \"paint\", \"tool\": \"inner\", \"radius\": 0.12, \"points\": [[470, 560], [520, 585], [570, 600]]}\n"
+        "{\"action\": \"paint\", \"tool\": \"inner\", \"radius\": 0.25, \"points\": [[520, 430], [570, 440], [620, 450]]}\n"
         "{\"action\": \"drag\", \"index\": 3, \"to\": [770, 240]}\n"
         "{\"action\": \"set-time\", \"t\": 0.8}\n"
         "{\"action\": \"wait-until-time\", \"t\": 0.8}\n"

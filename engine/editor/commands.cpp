@@ -291,8 +291,17 @@ bool g_range(const CommandArgs& a, CommandContext& c) {
     return true;
 }
 
+bool region_band(const CommandArgs& a, CommandContext& c) {
+    if (a.boolean_or("gesture", false) && !c.settings.region_gesture) {
+        c.settings.region_gesture = true;
+        c.session.begin_region_gesture();
+    }
+    c.session.set_region_band(a.number("band"));
+    return true;
+}
+
 bool end_gesture(const CommandArgs&, CommandContext& c) {
-    if (c.settings.region_gesture) c.session.end_region_gesture("geodesic range");
+    if (c.settings.region_gesture) c.session.end_region_gesture("region slider");
     if (c.settings.curve_gesture) c.session.end_curve_gesture("curve settings");
     c.settings.region_gesture = c.settings.curve_gesture = false;
     return true;
@@ -417,6 +426,9 @@ const std::vector<Command> kCommands = {
       {"strength", T::number, false, "tool s: how far each dab pulls"}}, paint},
     {"loops", "region between two boundary loops, the seed side moving",
      {{"inner", T::pixels, true, "inner loop"}, {"outer", T::pixels, true, "outer loop"}, {"seed", T::pixel, true, "on the part that moves"}}, loops},
+    {"new-region", "a clean painted region: nothing inner or outer yet", {}, VFSD_CALL(c.session.new_region())},
+    {"region-band", "the painted region's transition band: an inner region alone blends over it",
+     {{"band", T::number, true, "mesh units"}, {"gesture", T::boolean, false, "part of a slider drag"}}, region_band},
     {"close-loop", "close the loop in progress (loops tool)", {}, VFSD_CALL(c.tools.close_loop())},
     {"clear-loops", "drop the loops drawn so far", {}, VFSD_CALL(c.tools.clear_loops())},
     // ---- curve and handle

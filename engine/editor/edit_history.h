@@ -22,7 +22,8 @@ struct RegionSource {
         field,   // the directly painted s, saved as a field
     };
     Kind kind = Kind::spec;
-    RegionSpec spec;  // Kind::spec only
+    RegionSpec spec;    // Kind::spec only
+    double band = 0.0;  // Kind::labels only: the transition band (region_field.h), mesh units
 };
 
 // A region edit: the source before and after, and the painting that went with it
@@ -30,6 +31,9 @@ struct RegionSource {
 struct RegionChange {
     RegionSource before, after;
     RegionEdit paint;
+    // The curve follows the inner region (curve/curve_on_region.h): the motion
+    // before and after (equal when it did not move).
+    MotionSpec motion_before, motion_after;
 };
 
 // A curve edit: the scene's motion (curve or handle and its settings) before and after.

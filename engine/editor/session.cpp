@@ -1,9 +1,11 @@
 #include "editor/session.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "base/error.h"
+#include "curve/curve_on_region.h"
 #include "deform/quality.h"
 #include "mesh/geometry.h"
 #include "mesh/validation.h"
@@ -182,6 +184,7 @@ RegionSpec EditorSession::region_spec() const {
         case RegionSource::Kind::labels: {
             RegionSpec spec;
             spec.kind = RegionSpec::Kind::painted;
+            spec.band = doc_.region.band;
             const Selector inner = vertex_selector(doc_.paint.labels, RegionLabel::inner);
             const Selector outer = vertex_selector(doc_.paint.labels, RegionLabel::outer);
             if (!inner.vertices.empty()) spec.inner.push_back(inner);
@@ -209,6 +212,8 @@ void EditorSession::region_changed() {
 
 void EditorSession::set_region(const RegionSource& next, const RegionEdit& paint, const std::string& label) {
     const RegionSource before = doc_.region;
+    const MotionSpec motion_before = doc_.scene.motion;
+    const std::vector<double> s_before = s_;
     doc_.region = next;
     ::vfsd::apply_edit(doc_.paint, paint);
     try {
@@ -219,18 +224,38 @@ void EditorSession::set_region(const RegionSource& next, const RegionEdit& paint
         region_changed();
         throw;
     }
+    const auto inner = [](const std::vector<double>& s) {
+        std::vector<bool> in(s.size());
+        for (std::size_t v = 0; v < s.size(); ++v) in[v] = s[v] <= 0.0;
+        return in;
+    };
+    if (inner(s_) != inner(s_before)) follow_inner_region();
     if (region_gesture_) {
         accumulate(pending_region_.paint, paint);
         region_gesture_changed_ = true;
     } else {
-        history_.push({label, RegionChange{before, doc_.region, paint}});
+        history_.push({label, RegionChange{before, doc_.region, paint, motion_before, doc_.scene.motion}});
     }
+}
+
+// Sec. 3 wants c(0) in the inner region: a new inner region carries the curve
+// along, its start at the region's centroid, leaving along its axis, its shape
+// kept (curve/curve_on_region.h). A handle stays where the user put it.
+void EditorSession::follow_inner_region() {
+    if (doc_.scene.motion.curve.is_handle) return;
+    std::vector<Vec3> normals;
+    vertex_normals(doc_.file.mesh.positions, doc_.rings, normals);
+    MotionSpec next = doc_.scene.motion;
+    next.curve.bezier = curve_on_region(next.curve.bezier, doc_.file.mesh.positions, normals, s_);
+    if (next == doc_.scene.motion) return;
+    doc_.scene.motion = next;
+    curve_changed();
 }
 
 void EditorSession::begin_region_gesture() {
     region_gesture_ = true;
     region_gesture_changed_ = false;
-    pending_region_ = RegionChange{doc_.region, {}, {}};
+    pending_region_ = RegionChange{doc_.region, {}, {}, doc_.scene.motion, {}};
 }
 
 void EditorSession::end_region_gesture(const std::string& label) {
@@ -238,7 +263,35 @@ void EditorSession::end_region_gesture(const std::string& label) {
     region_gesture_ = false;
     if (!region_gesture_changed_) return;
     pending_region_.after = doc_.region;
+    pending_region_.motion_after = doc_.scene.motion;
     history_.push({label, std::move(pending_region_)});
+}
+
+RegionSource EditorSession::clean_labels(RegionEdit& paint) const {
+    RegionSource labels;
+    labels.kind = RegionSource::Kind::labels;
+    labels.band = region_band();
+    paint = diff_edit(RegionChannel::labels, labels_as_values(doc_.paint), std::vector<double>(s_.size(), 0.0));
+    return labels;
+}
+
+double EditorSession::region_band() const {
+    return doc_.region.kind == RegionSource::Kind::labels ? doc_.region.band : kDefaultBandFraction * diagonal_;
+}
+
+void EditorSession::new_region() {
+    RegionEdit paint;
+    const RegionSource next = clean_labels(paint);
+    set_region(next, paint, "new region");
+}
+
+void EditorSession::set_region_band(double band) {
+    if (!(band >= 0.0) || !std::isfinite(band)) throw InputError("region band: expected a distance >= 0");
+    RegionEdit paint;
+    RegionSource next = doc_.region.kind == RegionSource::Kind::labels ? doc_.region : clean_labels(paint);
+    if (next.kind == doc_.region.kind && next.band == band) return;
+    next.band = band;
+    set_region(next, paint, "transition band");
 }
 
 void EditorSession::pick_geodesic(std::uint32_t vertex, double g_min, double g_max) {
@@ -263,16 +316,13 @@ void EditorSession::brush(const SurfacePoint& centre, const BrushSettings& b) {
     RegionEdit total;
     RegionSource next = doc_.region;
     RegionPaint paint = doc_.paint;
-    // Painting starts from the region on screen: labels (or s) taken from s.
+    // Painting s starts from the field on screen; painting labels starts clean, so
+    // no label the user did not paint hides in the region (only the band is kept).
     if (b.tool == BrushTool::paint_s && next.kind != RegionSource::Kind::field) {
         total = diff_edit(RegionChannel::s, paint.s, s_);
         next.kind = RegionSource::Kind::field;
     } else if (b.tool != BrushTool::paint_s && next.kind != RegionSource::Kind::labels) {
-        std::vector<double> labels(s_.size());
-        for (std::size_t v = 0; v < s_.size(); ++v)
-            labels[v] = s_[v] <= 0.0 ? double(RegionLabel::inner) : s_[v] >= 1.0 ? double(RegionLabel::outer) : 0.0;
-        total = diff_edit(RegionChannel::labels, labels_as_values(paint), labels);
-        next.kind = RegionSource::Kind::labels;
+        next = clean_labels(total);
     }
     ::vfsd::apply_edit(paint, total);
     const auto& mesh = doc_.file.mesh;
@@ -542,6 +592,8 @@ void EditorSession::apply_edit(const Edit& edit, bool forward) {
         else ::vfsd::revert_edit(doc_.paint, r->paint);
         doc_.region = forward ? r->after : r->before;
         region_changed();
+        doc_.scene.motion = forward ? r->motion_after : r->motion_before;
+        curve_changed();
     } else if (const auto* c = std::get_if<CurveChange>(&edit)) {
         doc_.scene.motion = forward ? c->after : c->before;
         curve_changed();

@@ -84,6 +84,16 @@ public:
     void brush(const SurfacePoint& centre, const BrushSettings& settings);
     // Inner = seed side of `inner`, outer = beyond `outer` (boundary_cut.h); throws InputError.
     void set_region_from_loops(const SurfaceLoop& inner, const SurfaceLoop& outer, const SurfacePoint& seed);
+    // A clean painted region: nothing inner or outer, the band kept (or the default).
+    void new_region();
+    // The painted region's transition band in mesh units (>= 0): an inner region
+    // painted alone blends over it, and where inner and outer meet the outer side
+    // gives it up to the blend region. Turns a scene's or a field's region into
+    // labels first.
+    void set_region_band(double band);
+    double region_band() const;
+    // The band a painted region starts with: kDefaultBandFraction of the diagonal.
+    static constexpr double kDefaultBandFraction = 0.25;
 
     // Curve tools, with the same gesture rule. They edit the scene's motion: the
     // curve (or handle) and its settings.
@@ -191,6 +201,9 @@ private:
     void curve_changed();
     void refresh_curve_warnings();
     void set_region(const RegionSource& next, const RegionEdit& paint, const std::string& label);
+    // The labels a painting starts from when the region on screen is not labels: none.
+    RegionSource clean_labels(RegionEdit& paint) const;
+    void follow_inner_region();
     void apply_edit(const Edit& edit, bool forward);
     void set_target(double t);
     void drop_deformation();

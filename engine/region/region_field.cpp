@@ -152,9 +152,15 @@ RegionField painted_region_field(const std::vector<Vec3>& positions, const Verte
     GeodesicOptions full = options;
     full.max_distance = kInf;  // eq. (16) needs both distances everywhere
     const std::vector<double> gi = geodesic_distance_to_region(positions, rings, inner, full);
-    std::vector<std::uint8_t> outer = painted_outer;  // less the transition band
-    for (std::size_t v = 0; v < outer.size(); ++v)
+    // The outer region less the transition band; with no outer region painted and
+    // a band, everything beyond the band (an inner region alone blends over it).
+    bool any_outer = false;
+    for (std::uint8_t x : painted_outer) any_outer = any_outer || x;
+    std::vector<std::uint8_t> outer = painted_outer;
+    for (std::size_t v = 0; v < outer.size(); ++v) {
+        if (!any_outer && band > 0.0) outer[v] = !inner[v] && gi[v] >= band;
         if (gi[v] < band) outer[v] = 0;
+    }
     const std::vector<double> go = geodesic_distance_to_region(positions, rings, outer, full);
     // Eq. (16): s = g_o / (g_i + g_o) * 0 + g_i / (g_i + g_o) * 1.
     for (std::size_t v = 0; v < positions.size(); ++v) {

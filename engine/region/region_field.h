@@ -49,6 +49,8 @@ std::vector<double> geodesic_level_field(const std::vector<Vec3>& positions, con
 // `band` > 0 opens a transition band where the regions meet: outer vertices nearer
 // to the inner region than `band` (geodesic distance) join the blend region, so
 // that painted regions that touch still blend over that width instead of tearing.
+// With no outer region painted, every vertex at least `band` from the inner region
+// is outer: an inner region painted alone blends over the band.
 // A blend region thinner than kThinBlendRings somewhere gets a warning that says
 // where and which band would widen it.
 constexpr int kThinBlendRings = 3;
