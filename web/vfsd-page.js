@@ -14,7 +14,7 @@
   let readyResolve, readyReject;
   const ready = new Promise((resolve, reject) => { readyResolve = resolve; readyReject = reject; });
   let started = false;
-  let frameCount = 0;
+  let frameCount = 0;  // frames drawn (web/main.cpp draws only when something changed)
   let lastState = null;
   const frameWaiters = [];  // functions called each frame until they return true
 
@@ -107,11 +107,15 @@
       if (c.height !== h) c.height = h;
     }
   }
-  new ResizeObserver(resize).observe(glCanvas);
+  new ResizeObserver(() => {
+    resize();
+    if (started) Module.ccall('vfsd_wake', null, [], []);
+  }).observe(glCanvas);
   resize();
 
   // ---- each frame ----------------------------------------------------------------
 
+  // Each drawn frame; returns whether another is wanted (something waits on frames).
   function onFrame(overlayText) {
     resize();
     drawOverlay(JSON.parse(overlayText));
@@ -126,6 +130,7 @@
     for (let i = frameWaiters.length - 1; i >= 0; i--) {
       if (frameWaiters[i](lastState)) frameWaiters.splice(i, 1);
     }
+    return frameWaiters.length > 0;
   }
 
   function drawOverlay(o) {
@@ -427,6 +432,7 @@
 
   // Resolves on the first frame whose state satisfies `done` (rejects after `frames`).
   function waitFor(done, frames = 100000) {
+    Module.ccall('vfsd_wake', null, [], []);
     return new Promise((resolve, reject) => {
       let n = 0;
       frameWaiters.push((s) => {
@@ -498,6 +504,8 @@
       if (s.script.error) throw new Error(s.script.error);
     },
     frames: (n) => waitFor(() => --n <= 0),
+    // Frames drawn since the page loaded (none while nothing changes).
+    framesDrawn: () => frameCount,
     // The autosave: `behind` while the session has changes it does not hold yet,
     // `stored` once every autosave reached IndexedDB.
     autosave: () => {
