@@ -25,6 +25,7 @@
 #include <emscripten/html5.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -87,6 +88,27 @@ constexpr const char* kFiles = "/files";  // uploaded meshes and scenes, exports
 constexpr const char* kAutosave = "/autosave";  // IDBFS, kept in IndexedDB
 // A changed session is autosaved at most this often.
 constexpr double kAutosaveSeconds = 5.0;
+
+// A software rasteriser runs the GPU passes on the CPU, many times slower than the
+// CPU path itself (docs/web.md, "Speed"). Returns the matched name as written in
+// `renderer` ("SwiftShader"), or "" for a hardware renderer.
+std::string software_renderer(const std::string& renderer) {
+    std::string lower = renderer;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    for (const std::string word : {"swiftshader", "llvmpipe", "softpipe", "software"})
+        if (const std::size_t at = lower.find(word); at != std::string::npos) return renderer.substr(at, word.size());
+    return "";
+}
+
+// The renderer's real name (WEBGL_debug_renderer_info), else WebGL's masked one.
+std::string webgl_renderer(EMSCRIPTEN_WEBGL_CONTEXT_HANDLE gl, const std::string& masked) {
+    constexpr GLenum kUnmaskedRenderer = 0x9246;  // UNMASKED_RENDERER_WEBGL
+    if (!emscripten_webgl_enable_extension(gl, "WEBGL_debug_renderer_info")) return masked;
+    char* text = emscripten_webgl_get_parameter_utf8(kUnmaskedRenderer);
+    std::string name = text ? text : "";
+    std::free(text);
+    return name.empty() ? masked : name;
+}
 
 class WebGlContext final : public gpu::Context {
 public:
@@ -179,7 +201,7 @@ void App::init_gl() {
     const bool float_targets = allow_float_ && emscripten_webgl_enable_extension(gl_, "EXT_color_buffer_float");
     gpu::Capabilities caps = gpu::query_capabilities();
     caps.float_render_targets = float_targets;
-    gl_renderer_ = caps.renderer;
+    gl_renderer_ = webgl_renderer(gl_, caps.renderer);
     gpu_ = {};
     gpu_reason_.clear();
     if (backend_ == "cpu") {
@@ -188,10 +210,17 @@ void App::init_gl() {
     }
     try {
         gpu::require_gpu_support(caps);
-        gpu_ = gpu::start_gpu_deformation;
     } catch (const std::exception& e) {
         gpu_reason_ = e.what();
+        return;
     }
+    // ?backend=gpu runs the GPU passes even on a software renderer.
+    if (const std::string software = software_renderer(gl_renderer_); backend_ != "gpu" && !software.empty()) {
+        gpu_reason_ =
+            "software WebGL (" + software + ") runs the GPU passes slower than the CPU (?backend=gpu: use it anyway)";
+        return;
+    }
+    gpu_ = gpu::start_gpu_deformation;
 }
 
 Viewport App::viewport() const {

@@ -13,7 +13,8 @@ import { canvasColours } from './pixels.mjs';
 
 const out = outDir();
 const cli = process.env.VFSD_CLI;
-const { page, errors, close } = await openPage();
+// ?backend=gpu: the GPU path where it exists, even on SwiftShader (the default scheme runs on the CPU regardless).
+const { page, errors, close } = await openPage('?backend=gpu');
 
 const api = (fn, arg) => page.evaluate(fn, arg);
 const state = () => api(() => window.vfsd.state());
