@@ -40,10 +40,17 @@
     }
   }
 
-  function showError(text) {
+  // An error stays in a box over the view until dismissed (its button, or Escape)
+  // and is the status line; the console gets it once (`logged`: the engine logged it).
+  function showError(text, logged) {
     $('errors').textContent = text || '';
-    if (text) console.warn('vfsd: ' + text);
+    $('error-box').hidden = !text;
+    if (!text) return;
+    $('status').textContent = text;
+    if (!logged) console.warn('vfsd: ' + text);
   }
+  const dismissError = () => showError('');
+  $('dismiss-error').addEventListener('click', dismissError);
 
   function array(which) {
     const ptr = Module.ccall('vfsd_array', 'number', ['number'], [which]);
@@ -202,6 +209,8 @@
     if (out) out.textContent = fmt(value, el.step >= 1 ? 0 : 3);
   }
 
+  const shown = { loadError: '', status: '' };
+
   function refresh(s) {
     lastState = s;
     const st = s.stats;
@@ -234,8 +243,15 @@
     note.hidden = st.backend === 'gpu';
     note.textContent = st.backend === 'gpu' ? '' : 'CPU path: ' + (s.backend_reason || 'GPU path not available');
     $('tool-message').textContent = s.message + (s.tool === 'loops' ? ` (loops: ${s.loops[0]} closed, ${s.loops[1]} points)` : '');
-    if (s.load_error) showError(s.load_error);
-    if (s.status) $('status').textContent = s.status;
+    // The engine's error and status lines, each shown when it changes.
+    if (s.load_error !== shown.loadError) {
+      shown.loadError = s.load_error;
+      if (s.load_error) showError(s.load_error, true);
+    }
+    if (s.status !== shown.status) {
+      shown.status = s.status;
+      if (s.status) $('status').textContent = s.status;
+    }
     showRestoreOffer(s.autosave.offer);
     const warnings = $('warnings');
     const list = autosaveStore.error ? [...s.warnings, 'autosave: not written to IndexedDB: ' + autosaveStore.error]
@@ -361,10 +377,10 @@
     $('status').textContent = 'opening ' + target.split('/').pop() + '…';
     await new Promise((r) => setTimeout(r, 0));  // let the page paint the message
     const r = run({ cmd: 'open', path: target });
-    if (r && !r.load_error) {
-      showError('');
-      refresh(command({ cmd: 'state' }));
-    }
+    if (!r) return;
+    shown.loadError = r.load_error;
+    if (r.load_error) showError(r.load_error, true);  // web/main.cpp logged it
+    else refresh(command({ cmd: 'state' }));
   }
 
   for (const id of ['open-mesh', 'open-scene']) {

@@ -112,7 +112,6 @@ try {
         'the panel shows the live volume error');
   const reason = (await state()).backend_reason;
   check(stats.backend === 'cpu' && /gauge/.test(reason), `deformed on the CPU path (${reason})`);
-  await page.evaluate(() => document.getElementById('h-time').scrollIntoView());
   await page.screenshot({ path: path.join(out, 'web-deformed.png') });
   const colours = await canvasColours(page);
   check(colours.blue > 500 && colours.red > 500, 'both region colours still visible');
