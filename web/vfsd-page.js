@@ -432,16 +432,33 @@
 
   // ---- keyboard: the desktop editor's shortcuts -----------------------------------
 
-  // The editor's key table decides what a key does (docs/commands.md); the page only
-  // keeps keys away from text fields, and Space and Enter away from its buttons.
+  // The editor's key table decides what a key does (docs/commands.md). The page
+  // takes keys at the document, before the focused control: Space plays / pauses
+  // wherever the focus is, except in a text field, and never activates a button
+  // or toggles a checkbox; Enter still activates a focused button.
+  const textField = 'input:not([type]), input[type=text], input[type=number], input[type=search], ' +
+                    'input[type=email], input[type=url], input[type=password], textarea, select';
+  const typing = (t) => t.isContentEditable || (t.matches && t.matches(textField));
   document.addEventListener('keydown', (e) => {
-    if (!started) return;
+    if (!started || e.altKey) return;
     const t = e.target;
-    if (t.matches && t.matches('input[type=text], input[type=number], textarea, select')) return;
-    const onControl = t.matches && t.matches('button, input, select');
-    if (e.altKey || (onControl && (e.key === ' ' || e.key === 'Enter'))) return;
+    if (e.key === 'Escape' && !$('error-box').hidden) {
+      dismissError();
+      e.preventDefault();
+      return;
+    }
+    if (typing(t) || (e.key === 'Enter' && t.matches && t.matches('button, a[href], input[type=file]'))) return;
     const r = run({ cmd: 'key', key: e.key, ctrl: e.ctrlKey || e.metaKey, shift: e.shiftKey });
-    if (r && r.handled) e.preventDefault();
+    if ((r && r.handled) || e.key === ' ') e.preventDefault();
+  }, true);
+  // A button or checkbox activates on Space's keyup: that is the editor's too.
+  document.addEventListener('keyup', (e) => {
+    if (started && e.key === ' ' && !typing(e.target)) e.preventDefault();
+  }, true);
+  // A clicked button gives the focus back to the page, so keys go to the editor.
+  document.addEventListener('click', (e) => {
+    const button = e.target.closest && e.target.closest('button');
+    if (button && e.detail > 0) button.blur();
   });
 
   // ---- the automation API (docs/web.md) -------------------------------------------
