@@ -12,14 +12,20 @@
 // frame ends by handing the page the Editor's overlay (control points, loops, the
 // brush, the gizmo) to draw on the 2D canvas above the WebGL one.
 //
+// Frames are drawn only while something changes: the deformation moves, a script
+// runs, or a command, the pointer, the wheel or the page (vfsd_wake) asked for
+// one. Otherwise the main loop pauses, and an autosave still due wakes it once.
+//
 // The autosave (editor/autosave.h) lives in /autosave, an IDBFS folder the page
 // loads from IndexedDB before the editor starts and writes back after each
 // autosave, so a reloaded page offers to restore the session.
 
 #include <emscripten.h>
+#include <emscripten/eventloop.h>
 #include <emscripten/html5.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -42,8 +48,9 @@ EM_JS(char*, vfsd_page_options, (), {
     stringToUTF8(text, out, size);
     return out;
 });
-EM_JS(void, vfsd_page_frame, (const char* overlay), {
-    if (Module.vfsdFrame) Module.vfsdFrame(UTF8ToString(overlay));
+// Returns whether the page wants another frame (it waits on one).
+EM_JS(int, vfsd_page_frame, (const char* overlay), {
+    return Module.vfsdFrame && Module.vfsdFrame(UTF8ToString(overlay)) ? 1 : 0;
 });
 EM_JS(void, vfsd_page_context, (int lost), {
     if (Module.vfsdContext) Module.vfsdContext(lost != 0);
@@ -82,6 +89,27 @@ constexpr const char* kAutosave = "/autosave";  // IDBFS, kept in IndexedDB
 // A changed session is autosaved at most this often.
 constexpr double kAutosaveSeconds = 5.0;
 
+// A software rasteriser runs the GPU passes on the CPU, many times slower than the
+// CPU path itself (docs/web.md, "Speed"). Returns the matched name as written in
+// `renderer` ("SwiftShader"), or "" for a hardware renderer.
+std::string software_renderer(const std::string& renderer) {
+    std::string lower = renderer;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    for (const std::string word : {"swiftshader", "llvmpipe", "softpipe", "software"})
+        if (const std::size_t at = lower.find(word); at != std::string::npos) return renderer.substr(at, word.size());
+    return "";
+}
+
+// The renderer's real name (WEBGL_debug_renderer_info), else WebGL's masked one.
+std::string webgl_renderer(EMSCRIPTEN_WEBGL_CONTEXT_HANDLE gl, const std::string& masked) {
+    constexpr GLenum kUnmaskedRenderer = 0x9246;  // UNMASKED_RENDERER_WEBGL
+    if (!emscripten_webgl_enable_extension(gl, "WEBGL_debug_renderer_info")) return masked;
+    char* text = emscripten_webgl_get_parameter_utf8(kUnmaskedRenderer);
+    std::string name = text ? text : "";
+    std::free(text);
+    return name.empty() ? masked : name;
+}
+
 class WebGlContext final : public gpu::Context {
 public:
     explicit WebGlContext(EMSCRIPTEN_WEBGL_CONTEXT_HANDLE handle) : handle_(handle) {}
@@ -97,9 +125,14 @@ public:
     explicit App(const json& options);
 
     void frame();
+    // Something may look different: draw the next frame (resumes a paused loop).
+    void wake();
     json command(const json& c);
     void pointer(int kind, double x, double y, int button, bool shift);
-    void wheel(double delta, double x, double y) { editor_->wheel(-delta / 100.0, x, y); }
+    void wheel(double delta, double x, double y) {
+        wake();
+        editor_->wheel(-delta / 100.0, x, y);
+    }
     // Positions (0) or s (1) of the current shape as doubles; returns the count.
     std::size_t array(int which);
     const std::vector<double>& array_data() const { return array_; }
@@ -116,6 +149,14 @@ public:
 private:
     void init_gl();
     editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_}; }
+    bool busy() const;
+    void pause();
+    void resume();
+    void autosave_due();
+
+    bool dirty_ = true;    // draw the next frame
+    bool paused_ = false;  // the main loop waits for wake()
+    bool autosave_timer_ = false;
 
     EMSCRIPTEN_WEBGL_CONTEXT_HANDLE gl_ = 0;
     bool lost_ = false;
@@ -160,7 +201,7 @@ void App::init_gl() {
     const bool float_targets = allow_float_ && emscripten_webgl_enable_extension(gl_, "EXT_color_buffer_float");
     gpu::Capabilities caps = gpu::query_capabilities();
     caps.float_render_targets = float_targets;
-    gl_renderer_ = caps.renderer;
+    gl_renderer_ = webgl_renderer(gl_, caps.renderer);
     gpu_ = {};
     gpu_reason_.clear();
     if (backend_ == "cpu") {
@@ -169,10 +210,17 @@ void App::init_gl() {
     }
     try {
         gpu::require_gpu_support(caps);
-        gpu_ = gpu::start_gpu_deformation;
     } catch (const std::exception& e) {
         gpu_reason_ = e.what();
+        return;
     }
+    // ?backend=gpu runs the GPU passes even on a software renderer.
+    if (const std::string software = software_renderer(gl_renderer_); backend_ != "gpu" && !software.empty()) {
+        gpu_reason_ =
+            "software WebGL (" + software + ") runs the GPU passes slower than the CPU (?backend=gpu: use it anyway)";
+        return;
+    }
+    gpu_ = gpu::start_gpu_deformation;
 }
 
 Viewport App::viewport() const {
@@ -183,6 +231,7 @@ Viewport App::viewport() const {
 
 // kind: 0 press, 1 move, 2 release, 3 leave; another button or Shift pans.
 void App::pointer(int kind, double x, double y, int button, bool shift) {
+    wake();  // the hover highlight and the brush follow the pointer
     if (kind == 0) editor_->press(x, y, button != 0 || shift);
     else if (kind == 1) editor_->move(x, y);
     else if (kind == 2) editor_->release();
@@ -190,8 +239,11 @@ void App::pointer(int kind, double x, double y, int button, bool shift) {
 }
 
 // The page's commands (editor/page_api.h), and the context-loss handlers' test hook.
+// Every command but the read-only queries may change what is drawn.
 json App::command(const json& c) {
-    if (c.value("cmd", std::string()) != "context") return editor::page_command(*editor_, c, page());
+    const std::string cmd = c.value("cmd", std::string());
+    if (cmd != "state" && cmd != "project" && cmd != "gizmo-parts" && cmd != "checksum") wake();
+    if (cmd != "context") return editor::page_command(*editor_, c, page());
     c.value("lost", false) ? context_lost() : context_restored();
     return editor::page_state(*editor_, page());
 }
@@ -205,17 +257,58 @@ std::size_t App::array(int which) {
     return array_.size();
 }
 
+// The deformation moves or a script runs: frames follow each other.
+bool App::busy() const {
+    const editor::ScriptRunner* script = editor_->script();
+    return editor_->session().moving() || (script && !script->done());
+}
+
+void App::wake() {
+    dirty_ = true;
+    resume();
+}
+
+void App::resume() {
+    if (!paused_) return;
+    paused_ = false;
+    emscripten_resume_main_loop();
+}
+
+// Nothing to draw until wake(); a due autosave wakes the loop once its interval passed.
+void App::pause() {
+    paused_ = true;
+    emscripten_pause_main_loop();
+    const editor::Autosave& autosave = editor_->autosave();
+    if (autosave_timer_ || autosave.offer() || !autosave.behind(editor_->session())) return;
+    autosave_timer_ = true;
+    emscripten_set_timeout([](void* self) { static_cast<App*>(self)->autosave_due(); }, 1000.0 * kAutosaveSeconds,
+                           this);
+}
+
+// One frame without drawing: advance() writes the autosave.
+void App::autosave_due() {
+    autosave_timer_ = false;
+    resume();
+}
+
 void App::frame() {
-    if (lost_) return;
+    if (lost_) return pause();  // context_restored() wakes it
+    const bool draw = dirty_ || busy();
     try {
         editor_->advance();
-        view_.wireframe = editor_->settings().wireframe;
-        view_.draw(editor_->session(), editor_->camera(), viewport());
+        if (draw) {
+            view_.wireframe = editor_->settings().wireframe;
+            view_.draw(editor_->session(), editor_->camera(), viewport());
+        }
     } catch (const std::exception& e) {
         editor_->set_status(e.what());
         log(std::string("frame: ") + e.what());
     }
-    vfsd_page_frame(editor::overlay_json(editor_->overlay(editor_->pointer())).dump().c_str());
+    if (draw) {
+        dirty_ = false;  // a command the page runs in its frame sets it again
+        if (vfsd_page_frame(editor::overlay_json(editor_->overlay(editor_->pointer())).dump().c_str())) dirty_ = true;
+    }
+    if (!dirty_ && !busy()) pause();
 }
 
 void App::context_lost() {
@@ -233,6 +326,7 @@ void App::context_restored() {
     init_gl();
     lost_ = false;
     vfsd_page_context(0);
+    wake();
 }
 
 std::unique_ptr<App> app;
@@ -275,6 +369,11 @@ EMSCRIPTEN_KEEPALIVE const double* vfsd_array(int which) {
 }
 
 EMSCRIPTEN_KEEPALIVE int vfsd_array_size() { return app ? int(app->array_data().size()) : 0; }
+
+// The page asks for a frame: the canvas was resized, or it waits on a frame.
+EMSCRIPTEN_KEEPALIVE void vfsd_wake() {
+    if (app) app->wake();
+}
 
 // Starts the editor once the autosave folder is loaded (vfsd_page_load_autosave).
 EMSCRIPTEN_KEEPALIVE void vfsd_start() {

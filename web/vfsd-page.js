@@ -14,7 +14,7 @@
   let readyResolve, readyReject;
   const ready = new Promise((resolve, reject) => { readyResolve = resolve; readyReject = reject; });
   let started = false;
-  let frameCount = 0;
+  let frameCount = 0;  // frames drawn (web/main.cpp draws only when something changed)
   let lastState = null;
   const frameWaiters = [];  // functions called each frame until they return true
 
@@ -40,10 +40,17 @@
     }
   }
 
-  function showError(text) {
+  // An error stays in a box over the view until dismissed (its button, or Escape)
+  // and is the status line; the console gets it once (`logged`: the engine logged it).
+  function showError(text, logged) {
     $('errors').textContent = text || '';
-    if (text) console.warn('vfsd: ' + text);
+    $('error-box').hidden = !text;
+    if (!text) return;
+    $('status').textContent = text;
+    if (!logged) console.warn('vfsd: ' + text);
   }
+  const dismissError = () => showError('');
+  $('dismiss-error').addEventListener('click', dismissError);
 
   function array(which) {
     const ptr = Module.ccall('vfsd_array', 'number', ['number'], [which]);
@@ -107,11 +114,15 @@
       if (c.height !== h) c.height = h;
     }
   }
-  new ResizeObserver(resize).observe(glCanvas);
+  new ResizeObserver(() => {
+    resize();
+    if (started) Module.ccall('vfsd_wake', null, [], []);
+  }).observe(glCanvas);
   resize();
 
   // ---- each frame ----------------------------------------------------------------
 
+  // Each drawn frame; returns whether another is wanted (something waits on frames).
   function onFrame(overlayText) {
     resize();
     drawOverlay(JSON.parse(overlayText));
@@ -126,6 +137,7 @@
     for (let i = frameWaiters.length - 1; i >= 0; i--) {
       if (frameWaiters[i](lastState)) frameWaiters.splice(i, 1);
     }
+    return frameWaiters.length > 0;
   }
 
   function drawOverlay(o) {
@@ -197,6 +209,8 @@
     if (out) out.textContent = fmt(value, el.step >= 1 ? 0 : 3);
   }
 
+  const shown = { loadError: '', status: '' };
+
   function refresh(s) {
     lastState = s;
     const st = s.stats;
@@ -229,8 +243,15 @@
     note.hidden = st.backend === 'gpu';
     note.textContent = st.backend === 'gpu' ? '' : 'CPU path: ' + (s.backend_reason || 'GPU path not available');
     $('tool-message').textContent = s.message + (s.tool === 'loops' ? ` (loops: ${s.loops[0]} closed, ${s.loops[1]} points)` : '');
-    if (s.load_error) showError(s.load_error);
-    if (s.status) $('status').textContent = s.status;
+    // The engine's error and status lines, each shown when it changes.
+    if (s.load_error !== shown.loadError) {
+      shown.loadError = s.load_error;
+      if (s.load_error) showError(s.load_error, true);
+    }
+    if (s.status !== shown.status) {
+      shown.status = s.status;
+      if (s.status) $('status').textContent = s.status;
+    }
     showRestoreOffer(s.autosave.offer);
     const warnings = $('warnings');
     const list = autosaveStore.error ? [...s.warnings, 'autosave: not written to IndexedDB: ' + autosaveStore.error]
@@ -356,10 +377,10 @@
     $('status').textContent = 'opening ' + target.split('/').pop() + '…';
     await new Promise((r) => setTimeout(r, 0));  // let the page paint the message
     const r = run({ cmd: 'open', path: target });
-    if (r && !r.load_error) {
-      showError('');
-      refresh(command({ cmd: 'state' }));
-    }
+    if (!r) return;
+    shown.loadError = r.load_error;
+    if (r.load_error) showError(r.load_error, true);  // web/main.cpp logged it
+    else refresh(command({ cmd: 'state' }));
   }
 
   for (const id of ['open-mesh', 'open-scene']) {
@@ -411,22 +432,40 @@
 
   // ---- keyboard: the desktop editor's shortcuts -----------------------------------
 
-  // The editor's key table decides what a key does (docs/commands.md); the page only
-  // keeps keys away from text fields, and Space and Enter away from its buttons.
+  // The editor's key table decides what a key does (docs/commands.md). The page
+  // takes keys at the document, before the focused control: Space plays / pauses
+  // wherever the focus is, except in a text field, and never activates a button
+  // or toggles a checkbox; Enter still activates a focused button.
+  const textField = 'input:not([type]), input[type=text], input[type=number], input[type=search], ' +
+                    'input[type=email], input[type=url], input[type=password], textarea, select';
+  const typing = (t) => t.isContentEditable || (t.matches && t.matches(textField));
   document.addEventListener('keydown', (e) => {
-    if (!started) return;
+    if (!started || e.altKey) return;
     const t = e.target;
-    if (t.matches && t.matches('input[type=text], input[type=number], textarea, select')) return;
-    const onControl = t.matches && t.matches('button, input, select');
-    if (e.altKey || (onControl && (e.key === ' ' || e.key === 'Enter'))) return;
+    if (e.key === 'Escape' && !$('error-box').hidden) {
+      dismissError();
+      e.preventDefault();
+      return;
+    }
+    if (typing(t) || (e.key === 'Enter' && t.matches && t.matches('button, a[href], input[type=file]'))) return;
     const r = run({ cmd: 'key', key: e.key, ctrl: e.ctrlKey || e.metaKey, shift: e.shiftKey });
-    if (r && r.handled) e.preventDefault();
+    if ((r && r.handled) || e.key === ' ') e.preventDefault();
+  }, true);
+  // A button or checkbox activates on Space's keyup: that is the editor's too.
+  document.addEventListener('keyup', (e) => {
+    if (started && e.key === ' ' && !typing(e.target)) e.preventDefault();
+  }, true);
+  // A clicked button gives the focus back to the page, so keys go to the editor.
+  document.addEventListener('click', (e) => {
+    const button = e.target.closest && e.target.closest('button');
+    if (button && e.detail > 0) button.blur();
   });
 
   // ---- the automation API (docs/web.md) -------------------------------------------
 
   // Resolves on the first frame whose state satisfies `done` (rejects after `frames`).
   function waitFor(done, frames = 100000) {
+    Module.ccall('vfsd_wake', null, [], []);
     return new Promise((resolve, reject) => {
       let n = 0;
       frameWaiters.push((s) => {
@@ -498,6 +537,8 @@
       if (s.script.error) throw new Error(s.script.error);
     },
     frames: (n) => waitFor(() => --n <= 0),
+    // Frames drawn since the page loaded (none while nothing changes).
+    framesDrawn: () => frameCount,
     // The autosave: `behind` while the session has changes it does not hold yet,
     // `stored` once every autosave reached IndexedDB.
     autosave: () => {

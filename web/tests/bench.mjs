@@ -21,7 +21,7 @@ function nativeMsPerStep(scene) {
 
 const meshes = process.argv.slice(2).length ? process.argv.slice(2) : ['builtin:sphere:6'];
 for (const mesh of meshes) {
-  for (const query of ['', '?backend=cpu']) {
+  for (const query of ['?backend=gpu', '?backend=cpu']) {
     const { page, close } = await openPage(query);
     try {
       await page.evaluate((m) => window.vfsd.open(m), mesh);

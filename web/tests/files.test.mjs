@@ -5,7 +5,7 @@
 import { openPage, check } from './harness.mjs';
 
 {
-  const { page, errors, close } = await openPage();
+  const { page, errors, close } = await openPage('?backend=gpu');  // the GPU path even on SwiftShader
   try {
     const api = (fn, arg) => page.evaluate(fn, arg);
     // A good OBJ (a tetrahedron) through the file picker.

@@ -58,7 +58,7 @@ export async function openPage(query = '', viewport = { width: 1200, height: 800
     server.close();
     fs.rmSync(userData, { recursive: true, force: true });
   };
-  return { page, errors, log, url, close };
+  return { page, errors, log, url, close, userData };
 }
 
 // Where tests write screenshots and downloads.

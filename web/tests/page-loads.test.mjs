@@ -1,5 +1,5 @@
 // The page loads on 127.0.0.1 with no console errors, the default scene runs on
-// the CPU (the GPU passes lack the stream gauge fit and the volume keeper, and the
+// the CPU even where the GPU path is asked for (the GPU passes lack the stream gauge fit and the volume keeper, and the
 // page says so), and the default scene is visible: the canvas is not
 // blank and shows both region colours (s = 0 blue, s = 1 red).
 import path from 'node:path';
@@ -7,7 +7,8 @@ import { openPage, outDir, check } from './harness.mjs';
 import { canvasColours } from './pixels.mjs';
 
 const out = outDir();
-const { page, errors, close } = await openPage();
+// ?backend=gpu: the GPU path where the scheme allows it, even on a software renderer.
+const { page, errors, close } = await openPage('?backend=gpu');
 try {
   const stats = await page.evaluate(() => window.vfsd.stats());
   check(stats.vertices > 0 && stats.triangles > 0, `default scene loaded (${stats.vertices} vertices)`);

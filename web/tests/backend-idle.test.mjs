@@ -1,0 +1,68 @@
+// Fast where it runs, quiet when idle. On a software WebGL renderer (SwiftShader,
+// what headless Chromium gives) the page runs the CPU path and says why, unless
+// ?backend=gpu asks for the GPU path. Once the deformation has stopped the page
+// draws no frames; the pointer over the view draws again, then it stops again.
+import { openPage, check } from './harness.mjs';
+
+const software = /swiftshader|llvmpipe|software|softpipe/i;
+const { page, errors, close } = await openPage();
+const api = (fn, arg) => page.evaluate(fn, arg);
+// Frames drawn over `ms` of wall time.
+const framesOver = async (ms) => {
+  const f0 = await api(() => window.vfsd.framesDrawn());
+  await page.waitForTimeout(ms);
+  return (await api(() => window.vfsd.framesDrawn())) - f0;
+};
+
+try {
+  const s = await api(() => window.vfsd.state());
+  console.log(`  WebGL renderer: ${s.renderer}`);
+  const note = await page.locator('#backend-note').textContent();
+  if (software.test(s.renderer)) {
+    check(s.stats.backend === 'cpu', `a software renderer runs the CPU path (backend ${s.stats.backend})`);
+    check(await page.locator('#backend-note').isVisible() && /software WebGL/.test(note) && software.test(note),
+          `the page says why: "${note}"`);
+  } else {
+    check(!/software/.test(note), `a hardware renderer is not called software: "${note}"`);
+  }
+
+  // Idle: no frames once the deformation stopped.
+  const stats = await api(() => window.vfsd.runTo(0.2));
+  check(stats.time === 0.2, 'the deformation ran to t = 0.2 and stopped');
+  await page.waitForTimeout(300);
+  const idle = await framesOver(2000);
+  check(idle <= 2, `idle for 2 s: ${idle} frames drawn (at most 2)`);
+
+  // The pointer over the view draws (the hover highlight follows it); then quiet again.
+  const box = await page.locator('#vfsd-overlay').boundingBox();
+  const f0 = await api(() => window.vfsd.framesDrawn());
+  for (let k = 0; k < 5; k++) await page.mouse.move(box.x + box.width * (0.3 + 0.05 * k), box.y + box.height / 2);
+  await api(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  const moved = (await api(() => window.vfsd.framesDrawn())) - f0;
+  check(moved >= 1, `moving the pointer over the view draws (${moved} frames)`);
+  await page.mouse.move(0, 0);
+  await page.waitForTimeout(300);
+  const after = await framesOver(2000);
+  check(after <= 2, `quiet again: ${after} frames in 2 s`);
+  check(errors.length === 0, 'no console errors' + (errors.length ? ': ' + errors.join(' | ') : ''));
+} finally {
+  await close();
+}
+
+{
+  // ?backend=gpu: the GPU path even on a software renderer (a sec. 5 scene: what the GPU passes run).
+  const { page: gpuPage, errors: gpuErrors, close: gpuClose } = await openPage('?backend=gpu');
+  try {
+    const s = await gpuPage.evaluate(() => window.vfsd.state());
+    const c = s.control_points, d = s.diagonal;
+    await gpuPage.evaluate((scene) => window.vfsd.loadScene(scene), {
+      region: { kind: 'geodesic', seed: c[0], g_min: 0.1 * d, g_max: 0.4 * d }, curve: { bezier: c },
+      stream_gauge: 'paper', keep_volume: false,
+    });
+    const stats = await gpuPage.evaluate(() => window.vfsd.runTo(0.1));
+    check(stats.backend === 'gpu', `?backend=gpu runs the GPU path (${stats.backend})`);
+    check(gpuErrors.length === 0, 'no console errors' + (gpuErrors.length ? ': ' + gpuErrors.join(' | ') : ''));
+  } finally {
+    await gpuClose();
+  }
+}
