@@ -218,6 +218,7 @@
     setRange('radius', s.radius, 0.5 * d);
     setRange('g-min', s.g_min, d);
     setRange('g-max', s.g_max, d);
+    setRange('band', s.band, 0.5 * d);
     setRange('s-target', s.s_target);
     setRange('strength', s.strength);
     setRange('alpha0', s.alpha[0]);
@@ -289,6 +290,7 @@
   slider('strength', (v) => ({ cmd: 'brush', strength: v }));
   slider('g-min', (v) => ({ cmd: 'g-range', g_min: v }), true);
   slider('g-max', (v) => ({ cmd: 'g-range', g_max: v }), true);
+  slider('band', (v) => ({ cmd: 'region-band', band: v }), true);
   slider('alpha0', (v) => ({ cmd: 'twist', alpha: [v, Number($('alpha1').value)] }), true);
   slider('alpha1', (v) => ({ cmd: 'twist', alpha: [Number($('alpha0').value), v] }), true);
   slider('target-time', (v) => ({ cmd: 'set-time', t: v }));
@@ -301,7 +303,7 @@
   const buttons = {
     'play': { cmd: 'play-pause' }, 'reset': { cmd: 'reset' }, 'apply': { cmd: 'apply' }, 'undo': { cmd: 'undo' },
     'redo': { cmd: 'redo' }, 'add-segment': { cmd: 'add-segment' }, 'remove-segment': { cmd: 'remove-segment' },
-    'close-loop': { cmd: 'close-loop' }, 'clear-loops': { cmd: 'clear-loops' },
+    'close-loop': { cmd: 'close-loop' }, 'clear-loops': { cmd: 'clear-loops' }, 'new-region': { cmd: 'new-region' },
     'view-frame': { cmd: 'view', name: 'frame' }, 'view-front': { cmd: 'view', name: 'front' },
     'view-right': { cmd: 'view', name: 'right' }, 'view-top': { cmd: 'view', name: 'top' },
     'view-iso': { cmd: 'view', name: 'iso' },

@@ -145,6 +145,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
             {"strength", tools.brush.strength},
             {"g_min", tools.g_min},
             {"g_max", tools.g_max},
+            {"band", s.region_band()},
             {"axis", tools.axis},
             {"diagonal", s.diagonal()},
             {"inner_motion", c.inner_motion == InnerMotionMode::Translation ? "translation" : "rotation"},

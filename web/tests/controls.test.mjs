@@ -5,6 +5,7 @@
 // the console. Keys go to the editor whatever has the focus: Space after a click
 // on Export OBJ plays and downloads nothing more, Space on a clicked checkbox
 // plays and leaves it as it is; in a text or number field Space is the field's.
+// New region and the band slider each make one undo step.
 import path from 'node:path';
 import { openPage, outDir, check } from './harness.mjs';
 
@@ -100,6 +101,21 @@ try {
           `Space and letters typed in a ${type} field do not reach the editor (target time ${s.target_time}, tool ${s.tool})`);
   }
   check(await page.locator('#test-text').inputValue() === 'i o', 'the text field has the space');
+
+  // ---- the region controls: New region and the band, each one undo step ----
+  const undoBefore = (await state()).undo;
+  await page.getByRole('button', { name: 'New region' }).click();
+  const cleaned = await state();
+  check(cleaned.undo === undoBefore + 1, `New region is one undo step (${undoBefore} -> ${cleaned.undo})`);
+  const band = cleaned.band;
+  check(band > 0, `a painted region starts with a band (${band})`);
+  const slider = page.locator('#band');
+  await slider.scrollIntoViewIfNeeded();
+  const at = await slider.boundingBox();
+  await page.mouse.click(at.x + 0.9 * at.width, at.y + at.height / 2);
+  const widened = await state();
+  check(widened.band > band && widened.undo === cleaned.undo + 1,
+        `a click on the band slider widens the band (${band} -> ${widened.band}), one undo step`);
   check(errors.length === 0, 'no console errors' + (errors.length ? ': ' + errors.join(' | ') : ''));
 } finally {
   await close();

@@ -72,8 +72,20 @@ try {
   await page.getByLabel('Paint outer').check();
   await stroke(await project([-0.6, -0.2, 0.2, 0.6].map((u) => onFace(u, lo[2] + 0.15 * height))));
   const sPainted = await sArray();
-  check(count(sPainted, 0) > count(sBefore, 0), `inner region grew (${count(sBefore, 0)} -> ${count(sPainted, 0)} vertices)`);
-  check(count(sPainted, 1) > count(sBefore, 1), `outer region grew (${count(sBefore, 1)} -> ${count(sPainted, 1)} vertices)`);
+  // The first stroke starts a clean painted region: the inner region is what was painted.
+  const strokeZ = lo[2] + 0.68 * height;
+  let strayInner = 0;
+  for (let v = 0; v < sPainted.length; v++)
+    if (sPainted[v] === 0 && Math.abs(base[3 * v + 2] - strokeZ) > 0.081 * diag) strayInner++;
+  check(count(sPainted, 0) > 0 && strayInner === 0,
+        `the inner region is the painted stroke (${count(sBefore, 0)} -> ${count(sPainted, 0)} vertices, ${strayInner} elsewhere)`);
+  // The outer region is the painted outer stroke, less the transition band.
+  const outerZ = lo[2] + 0.15 * height;
+  let strayOuter = 0;
+  for (let v = 0; v < sPainted.length; v++)
+    if (sPainted[v] === 1 && Math.abs(base[3 * v + 2] - outerZ) > 0.081 * diag) strayOuter++;
+  check(count(sPainted, 1) > 0 && strayOuter === 0,
+        `the outer region is within the painted stroke (${count(sPainted, 1)} vertices, ${strayOuter} elsewhere)`);
   check((await state()).undo === 2, 'two strokes, two undo steps');
   await page.screenshot({ path: path.join(out, 'web-painted.png') });
 
