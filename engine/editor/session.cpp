@@ -255,7 +255,9 @@ void EditorSession::follow_inner_region() {
 void EditorSession::begin_region_gesture() {
     region_gesture_ = true;
     region_gesture_changed_ = false;
-    pending_region_ = RegionChange{doc_.region, {}, {}, doc_.scene.motion, {}};
+    pending_region_ = RegionChange();
+    pending_region_.before = doc_.region;
+    pending_region_.motion_before = doc_.scene.motion;
 }
 
 void EditorSession::end_region_gesture(const std::string& label) {
