@@ -64,18 +64,9 @@ App::App(const AppOptions& options) : options_(options), window_(open_window(opt
 
     // The GPU path runs in this window's context when it can, else the CPU path.
     GlfwContext context(window_);
-    std::string reason;
-    editor::DeformationFactory gpu;
-    if (options.backend == "cpu") {
-        reason = "--backend cpu";
-    } else {
-        try {
-            gpu::require_gpu_support(gpu::query_capabilities());
-            gpu = gpu::start_gpu_deformation;
-        } catch (const std::exception& e) {
-            reason = e.what();
-        }
-    }
+    const std::string reason = gpu::cpu_path_reason(gpu::query_capabilities(), options.backend);
+    const editor::DeformationFactory gpu =
+        reason.empty() ? editor::DeformationFactory(gpu::start_gpu_deformation) : editor::DeformationFactory();
     editor::EditorOptions editor_options;
     editor_options.autosave_directory = editor::default_autosave_directory();
     editor_options.force_cpu = options.backend == "cpu";

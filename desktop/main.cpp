@@ -1,4 +1,4 @@
-// vfsd-desktop [--scene FILE] [--script FILE] [--exit-after-script] [--backend auto|cpu]
+// vfsd-desktop [--scene FILE] [--script FILE] [--exit-after-script] [--backend auto|cpu|gpu]
 //              [--size WxH] [MESH]
 //
 // The desktop editor: opens MESH (a mesh file or builtin:NAME) or the scene FILE,
@@ -15,7 +15,7 @@
 namespace {
 
 void usage(std::FILE* out) {
-    std::fputs("usage: vfsd-desktop [--scene FILE] [--script FILE] [--exit-after-script] [--backend auto|cpu]\n"
+    std::fputs("usage: vfsd-desktop [--scene FILE] [--script FILE] [--exit-after-script] [--backend auto|cpu|gpu]\n"
                "                    [--size WxH] [MESH]\n"
                "Opens MESH (.obj .off .ply .stl .gltf .glb or builtin:NAME), the scene FILE, or the default\n"
                "scene; F1 in the window lists the shortcuts. docs/desktop.md describes scripts.\n"
@@ -58,8 +58,8 @@ int main(int argc, char** argv) {
             options.mesh = arg;
         }
     }
-    if (options.backend != "auto" && options.backend != "cpu") {
-        std::fprintf(stderr, "vfsd-desktop: --backend must be auto or cpu\n");
+    if (options.backend != "auto" && options.backend != "cpu" && options.backend != "gpu") {
+        std::fprintf(stderr, "vfsd-desktop: --backend must be auto, cpu or gpu\n");
         return 2;
     }
     try {

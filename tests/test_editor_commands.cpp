@@ -221,6 +221,15 @@ TEST_CASE("Commands: frame all keeps the view's direction, and every standard vi
     CHECK(e.host.loads == loads);  // framing is not loading
 }
 
+TEST_CASE("Commands: only the page's read-only queries leave the view as it was", "[editor][commands][web]") {
+    for (const char* query : {"state", "project", "gizmo-parts", "checksum"}) CHECK(page_query(query));
+    for (const Command& command : command_table()) {
+        INFO(command.name);
+        CHECK(!page_query(command.name));
+    }
+    for (const char* changes : {"open", "load-scene", "script", "key", "context"}) CHECK(!page_query(changes));
+}
+
 TEST_CASE("Commands: docs/commands.md lists the table", "[editor][commands][docs]") {
     const std::string docs = read_text(VFSD_SOURCE_DIR "/docs/commands.md");
     const std::string begin = "<!-- table: begin -->\n", end = "<!-- table: end -->";

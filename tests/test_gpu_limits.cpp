@@ -80,3 +80,32 @@ TEST_CASE("the GPU path refuses meshes too small or too large for float textures
         }
     }
 }
+
+TEST_CASE("both shells pick the CPU path on a software renderer unless asked for the GPU, and say why",
+          "[gpu][robustness][editor]") {
+    // No GL needed: the rule reads the capabilities only.
+    gpu::Capabilities caps = small_gpu(8192);
+    for (const char* hardware : {"NVIDIA GeForce RTX 4090/PCIe/SSE2", "ANGLE (AMD, Radeon RX 7900)", "Mali-G710"}) {
+        caps.renderer = hardware;
+        INFO(hardware);
+        CHECK(gpu::software_renderer(hardware).empty());
+        CHECK(gpu::cpu_path_reason(caps, "auto").empty());
+        CHECK(gpu::cpu_path_reason(caps, "gpu").empty());
+        CHECK(!gpu::cpu_path_reason(caps, "cpu").empty());
+    }
+    const std::pair<const char*, const char*> software[] = {
+        {"ANGLE (Google, Vulkan 1.3.0 (SwiftShader Device (Subzero)), SwiftShader driver)", "SwiftShader"},
+        {"llvmpipe (LLVM 15.0.6, 256 bits)", "llvmpipe"},
+        {"softpipe", "softpipe"},
+        {"Microsoft Basic Render Driver (software)", "software"}};
+    for (const auto& [renderer, name] : software) {
+        caps.renderer = renderer;
+        INFO(renderer);
+        CHECK(gpu::software_renderer(renderer) == name);
+        CHECK_THAT(gpu::cpu_path_reason(caps, "auto"), Catch::Contains(std::string("software renderer (") + name + ")"));
+        CHECK(gpu::cpu_path_reason(caps, "gpu").empty());  // asked for: the GPU path anyway
+    }
+    caps.float_render_targets = false;  // what no GPU path can do without, asked for or not
+    for (const char* requested : {"auto", "gpu"})
+        CHECK_THAT(gpu::cpu_path_reason(caps, requested), Catch::Contains("EXT_color_buffer_float"));
+}

@@ -89,17 +89,6 @@ constexpr const char* kAutosave = "/autosave";  // IDBFS, kept in IndexedDB
 // A changed session is autosaved at most this often.
 constexpr double kAutosaveSeconds = 5.0;
 
-// A software rasteriser runs the GPU passes on the CPU, many times slower than the
-// CPU path itself (docs/web.md, "Speed"). Returns the matched name as written in
-// `renderer` ("SwiftShader"), or "" for a hardware renderer.
-std::string software_renderer(const std::string& renderer) {
-    std::string lower = renderer;
-    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    for (const std::string word : {"swiftshader", "llvmpipe", "softpipe", "software"})
-        if (const std::size_t at = lower.find(word); at != std::string::npos) return renderer.substr(at, word.size());
-    return "";
-}
-
 // The renderer's real name (WEBGL_debug_renderer_info), else WebGL's masked one.
 std::string webgl_renderer(EMSCRIPTEN_WEBGL_CONTEXT_HANDLE gl, const std::string& masked) {
     constexpr GLenum kUnmaskedRenderer = 0x9246;  // UNMASKED_RENDERER_WEBGL
@@ -149,7 +138,6 @@ public:
 private:
     void init_gl();
     editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_}; }
-    bool busy() const;
     void pause();
     void resume();
     void autosave_due();
@@ -202,25 +190,10 @@ void App::init_gl() {
     gpu::Capabilities caps = gpu::query_capabilities();
     caps.float_render_targets = float_targets;
     gl_renderer_ = webgl_renderer(gl_, caps.renderer);
-    gpu_ = {};
-    gpu_reason_.clear();
-    if (backend_ == "cpu") {
-        gpu_reason_ = "CPU chosen (backend=cpu)";
-        return;
-    }
-    try {
-        gpu::require_gpu_support(caps);
-    } catch (const std::exception& e) {
-        gpu_reason_ = e.what();
-        return;
-    }
+    caps.renderer = gl_renderer_;
     // ?backend=gpu runs the GPU passes even on a software renderer.
-    if (const std::string software = software_renderer(gl_renderer_); backend_ != "gpu" && !software.empty()) {
-        gpu_reason_ =
-            "software WebGL (" + software + ") runs the GPU passes slower than the CPU (?backend=gpu: use it anyway)";
-        return;
-    }
-    gpu_ = gpu::start_gpu_deformation;
+    gpu_reason_ = gpu::cpu_path_reason(caps, backend_);
+    gpu_ = gpu_reason_.empty() ? editor::DeformationFactory(gpu::start_gpu_deformation) : editor::DeformationFactory();
 }
 
 Viewport App::viewport() const {
@@ -242,7 +215,7 @@ void App::pointer(int kind, double x, double y, int button, bool shift) {
 // Every command but the read-only queries may change what is drawn.
 json App::command(const json& c) {
     const std::string cmd = c.value("cmd", std::string());
-    if (cmd != "state" && cmd != "project" && cmd != "gizmo-parts" && cmd != "checksum") wake();
+    if (!editor::page_query(cmd)) wake();
     if (cmd != "context") return editor::page_command(*editor_, c, page());
     c.value("lost", false) ? context_lost() : context_restored();
     return editor::page_state(*editor_, page());
@@ -255,12 +228,6 @@ std::size_t App::array(int which) {
     else
         for (const Vec3& p : s.positions()) array_.insert(array_.end(), {p.x, p.y, p.z});
     return array_.size();
-}
-
-// The deformation moves or a script runs: frames follow each other.
-bool App::busy() const {
-    const editor::ScriptRunner* script = editor_->script();
-    return editor_->session().moving() || (script && !script->done());
 }
 
 void App::wake() {
@@ -293,7 +260,7 @@ void App::autosave_due() {
 
 void App::frame() {
     if (lost_) return pause();  // context_restored() wakes it
-    const bool draw = dirty_ || busy();
+    const bool draw = dirty_ || editor_->busy();
     try {
         editor_->advance();
         if (draw) {
@@ -308,7 +275,7 @@ void App::frame() {
         dirty_ = false;  // a command the page runs in its frame sets it again
         if (vfsd_page_frame(editor::overlay_json(editor_->overlay(editor_->pointer())).dump().c_str())) dirty_ = true;
     }
-    if (!dirty_ && !busy()) pause();
+    if (!dirty_ && !editor_->busy()) pause();
 }
 
 void App::context_lost() {

@@ -117,6 +117,8 @@ public:
     void advance();
     // What to paint over the scene; `pointer` hovers over the view (none: over a panel or outside).
     Overlay overlay(std::optional<glm::dvec2> pointer) const;
+    // Frames must follow each other: the deformation moves or a script runs.
+    bool busy() const { return session_->moving() || (script_ && !script_->done()); }
     // The context's loss (web): the deformation restarts from the CPU state.
     void restart_deformation();
 

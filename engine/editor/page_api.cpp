@@ -183,6 +183,10 @@ json overlay_json(const Overlay& o) {
     return out;
 }
 
+bool page_query(const std::string& cmd) {
+    return cmd == "state" || cmd == "project" || cmd == "gizmo-parts" || cmd == "checksum";
+}
+
 json page_command(Editor& editor, const json& c, const PageInfo& page) {
     const std::string cmd = c.value("cmd", std::string());
     if (cmd == "state") return page_state(editor, page);

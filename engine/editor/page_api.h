@@ -25,6 +25,10 @@ nlohmann::json page_state(const Editor& editor, const PageInfo& page);
 // The overlay in canvas pixels: {polygon, points, loops, current, brush, gizmo}.
 nlohmann::json overlay_json(const Overlay& overlay);
 
+// Whether the page's `cmd` only reads (state, project, gizmo-parts, checksum):
+// nothing it does changes what is drawn.
+bool page_query(const std::string& cmd);
+
 // One page command {"cmd": NAME, ...}: a query of the page's (state, open,
 // load-scene, export-mesh, export-scene, project, gizmo-parts, checksum, script,
 // key) or else a command of the table (docs/commands.md), answered by the state.

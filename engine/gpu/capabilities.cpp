@@ -1,5 +1,7 @@
 #include "gpu/capabilities.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstring>
 
 #include "gpu/gl.h"
@@ -51,6 +53,28 @@ void require_gpu_support(const Capabilities& caps, std::size_t vertex_count) {
         throw GpuUnavailable("GPU path unavailable on '" + caps.renderer + "': " + std::to_string(vertex_count) +
                              " vertices need " + std::to_string(layout.height) + " texture rows, more than the maximum " +
                              std::to_string(caps.max_texture_size) + fallback);
+}
+
+std::string software_renderer(const std::string& renderer) {
+    std::string lower = renderer;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    for (const std::string word : {"swiftshader", "llvmpipe", "softpipe", "software"})
+        if (const std::size_t at = lower.find(word); at != std::string::npos) return renderer.substr(at, word.size());
+    return "";
+}
+
+std::string cpu_path_reason(const Capabilities& caps, const std::string& requested) {
+    if (requested == "cpu") return "CPU chosen (backend cpu)";
+    try {
+        require_gpu_support(caps);
+    } catch (const GpuUnavailable& e) {
+        return e.what();
+    }
+    const std::string software = software_renderer(caps.renderer);
+    if (requested != "gpu" && !software.empty())
+        return "software renderer (" + software +
+               ") runs the GPU passes slower than the CPU path (ask for the GPU backend to use it anyway)";
+    return "";
 }
 
 }  // namespace vfsd::gpu

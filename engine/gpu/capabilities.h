@@ -22,4 +22,14 @@ Capabilities query_capabilities();
 // passes for `vertex_count` vertices.
 void require_gpu_support(const Capabilities& caps, std::size_t vertex_count = 0);
 
+// A software rasteriser (SwiftShader, llvmpipe, softpipe) runs the GPU passes on
+// the CPU, many times slower than the CPU path itself (docs/web.md, "Speed"):
+// the matched name as `renderer` writes it ("SwiftShader"), or "" for hardware.
+std::string software_renderer(const std::string& renderer);
+
+// Why an editor in this context runs the CPU path, or "" for the GPU path.
+// `requested`: "auto" (the GPU where it can, unless it renders in software),
+// "gpu" (wherever it can) or "cpu". The one rule both shells follow.
+std::string cpu_path_reason(const Capabilities& caps, const std::string& requested);
+
 }  // namespace vfsd::gpu
