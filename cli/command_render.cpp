@@ -77,7 +77,7 @@ int run_render(const Args& args) {
     // The camera frames the whole deformation, so frames of one scene at any time line up.
     Camera camera = Camera::framing(deformation_frame_points(start, prepared.region.s, prepared.motion),
                                     double(width) / double(height));
-    const std::string up = args.get("up", "z");
+    const std::string up = args.get("up", std::string(1, scene.up_axis));  // default: the scene's
     if (up != "y" && up != "z") throw UsageError("--up must be 'y' or 'z'");
     camera.up_axis = up_axis_named(up);
     try {

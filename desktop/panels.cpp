@@ -284,6 +284,11 @@ void App::draw_stats_line() {
 }
 
 void App::draw_options() {
+    const char up = editor_->session().up_axis();
+    if (ImGui::RadioButton("Z up", up == 'z')) command("up-axis", {{"axis", "z"}});
+    ImGui::SameLine();
+    if (ImGui::RadioButton("Y up", up == 'y')) command("up-axis", {{"axis", "y"}});
+    tooltip("The axis shown up, saved in the scene and remembered for the file type");
     bool cpu = editor_->settings().force_cpu;
     if (ImGui::Checkbox("force CPU", &cpu)) command("force-cpu", {{"on", cpu}});
     ImGui::SameLine();

@@ -253,15 +253,26 @@ public:
     void screenshot(const std::string&, bool) override {}
 };
 
+// The Editor in that window on fig. 4's scene, its autosave in `dir`.
+struct ShellEditor {
+    TestShell shell;
+    Editor editor;
+    explicit ShellEditor(const test::ScratchDir& dir) : editor(shell, {}, "no GPU in this test", options(dir)) {
+        editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+    }
+    static EditorOptions options(const test::ScratchDir& dir) {
+        EditorOptions o;
+        o.autosave_directory = dir.file("autosave");
+        return o;
+    }
+};
+
 }  // namespace
 
 TEST_CASE("Commands: the page's API answers natively through the Editor", "[editor][commands][web]") {
     test::ScratchDir dir;
-    TestShell shell;
-    EditorOptions options;
-    options.autosave_directory = dir.file("autosave");
-    Editor editor(shell, {}, "no GPU in this test", options);
-    editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+    ShellEditor shell_editor(dir);
+    Editor& editor = shell_editor.editor;
     const PageInfo page{dir.path().string(), "test", false};
     const auto send = [&](const std::string& text) { return page_command(editor, json::parse(text), page); };
 
@@ -299,4 +310,28 @@ TEST_CASE("Commands: the page's API answers natively through the Editor", "[edit
     const json overlay = overlay_json(editor.overlay(std::nullopt));
     CHECK(overlay["points"].size() == 2);
     CHECK(overlay["gizmo"].is_object());
+}
+
+TEST_CASE("Commands: the up axis turns the view, is saved in the scene and remembered for the file type",
+          "[editor][commands][camera]") {
+    test::ScratchDir dir;
+    ShellEditor shell_editor(dir);
+    Editor& editor = shell_editor.editor;
+    CHECK(editor.session().up_axis() == 'z');
+    CHECK(glm::length(editor.camera().world_up() - Vec3(0, 0, 1)) < 1e-12);
+
+    editor.command("up-axis", {{"axis", "y"}});
+    CHECK(editor.session().up_axis() == 'y');
+    CHECK(glm::length(editor.camera().world_up() - Vec3(0, 1, 0)) < 1e-12);
+    editor.session().save_scene(dir.file("y-up.json"));
+    CHECK(load_scene(dir.file("y-up.json")).up_axis == 'y');
+
+    // The next mesh of the same type opens Y-up; a scene opens as it says.
+    REQUIRE(editor.open("builtin:bar"));
+    CHECK(editor.session().up_axis() == 'y');
+    CHECK(glm::length(editor.camera().world_up() - Vec3(0, 1, 0)) < 1e-12);
+    REQUIRE(editor.open(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json"));
+    CHECK(editor.session().up_axis() == 'z');
+    CHECK(glm::length(editor.camera().world_up() - Vec3(0, 0, 1)) < 1e-12);
+    CHECK_THROWS_AS(editor.command("up-axis", {{"axis", "x"}}), InputError);
 }

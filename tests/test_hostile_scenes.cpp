@@ -278,3 +278,16 @@ TEST_CASE("stream_origin is \"curve\" or a point, and survives a save", "[hostil
     CHECK(*again.motion.stream_origin == *scene.motion.stream_origin);
     CHECK(build_motion(again.motion).at(0.5).stream_origin == Vec3(0.1, 0.2, -0.1));
 }
+
+TEST_CASE("a scene's up axis is z unless it says y, survives a save, and a third axis is refused", "[hostile][scene]") {
+    json j = box_scene();
+    CHECK(parse_scene(j, "", "up.json").up_axis == 'z');
+    j["up"] = "y";
+    const Scene y_up = parse_scene(j, "", "up.json");
+    CHECK(y_up.up_axis == 'y');
+    CHECK(parse_scene(scene_to_json(y_up), "", "again.json").up_axis == 'y');
+    for (const json bad : {json("x"), json("Y"), json(1), json::array()}) {
+        j["up"] = bad;
+        CHECK_THROWS_WITH(parse_scene(j, "", "up.json"), Catch::Contains("up.json: up: expected \"z\" or \"y\""));
+    }
+}

@@ -227,6 +227,7 @@
     for (const r of document.querySelectorAll('input[name=tool]')) r.checked = r.value === s.tool;
     if (document.activeElement !== $('axis')) $('axis').value = String(s.axis);
     if (document.activeElement !== $('inner-motion')) $('inner-motion').value = s.inner_motion;
+    if (document.activeElement !== $('up-axis')) $('up-axis').value = s.up;
     $('force-cpu').checked = s.force_cpu;
     $('wireframe').checked = s.wireframe;
     $('time-value').textContent = fmt(st.time);
@@ -297,6 +298,7 @@
   const axisNames = ['free', 'x', 'y', 'z'];
   $('axis').addEventListener('change', () => run({ cmd: 'axis', name: axisNames[Number($('axis').value) + 1] }));
   $('inner-motion').addEventListener('change', () => run({ cmd: 'inner-motion', mode: $('inner-motion').value }));
+  $('up-axis').addEventListener('change', () => run({ cmd: 'up-axis', axis: $('up-axis').value }));
   $('wireframe').addEventListener('change', () => run({ cmd: 'wireframe', on: $('wireframe').checked }));
   $('force-cpu').addEventListener('change', () => run({ cmd: 'force-cpu', on: $('force-cpu').checked }));
 

@@ -300,6 +300,15 @@ bool region_band(const CommandArgs& a, CommandContext& c) {
     return true;
 }
 
+// The scene's up axis; the view turns to keep its direction about the new axis, framed.
+bool up_axis(const CommandArgs& a, CommandContext& c) {
+    const std::string axis = a.text("axis");
+    c.camera.up_axis = up_axis_named(axis);
+    c.session.set_up_axis(axis[0]);
+    frame_session(c.camera, c.session, c.viewport);
+    return true;
+}
+
 bool end_gesture(const CommandArgs&, CommandContext& c) {
     if (c.settings.region_gesture) c.session.end_region_gesture("region slider");
     if (c.settings.curve_gesture) c.session.end_curve_gesture("curve settings");
@@ -467,6 +476,8 @@ const std::vector<Command> kCommands = {
      [](const CommandArgs&, CommandContext& c) { if (!c.session.redo()) throw InputError("nothing to redo"); return true; }},
     // ---- view
     {"view", "a standard view, or frame all: each frames mesh and curve; frame keeps the direction", {{"name", T::text, true, "view", "front|back|left|right|top|bottom|iso|frame"}}, view},
+    {"up-axis", "the axis shown up (stored in the scene, remembered for the file type)",
+     {{"axis", T::text, true, "axis", "z|y"}}, up_axis},
     {"orbit", "turn the camera over frames as a pointer drag would",
      {{"degrees", T::pair, true, "[yaw, pitch]"}, {"frames", T::integer, true, "how many"},
       {"pointer", T::pixel, false, "the hovering pointer; the editor logs each frame's times"}}, orbit},

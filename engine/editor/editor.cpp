@@ -75,6 +75,7 @@ void Editor::open_scene(const Scene& scene) {
 
 void Editor::loaded() {
     camera_ = Camera();
+    camera_.up_axis = up_axis_named(std::string(1, session_->up_axis()));
     frame_session(camera_, *session_, shell_.viewport());
 }
 

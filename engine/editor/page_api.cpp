@@ -146,6 +146,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
             {"g_min", tools.g_min},
             {"g_max", tools.g_max},
             {"band", s.region_band()},
+            {"up", std::string(1, s.up_axis())},
             {"axis", tools.axis},
             {"diagonal", s.diagonal()},
             {"inner_motion", c.inner_motion == InnerMotionMode::Translation ? "translation" : "rotation"},

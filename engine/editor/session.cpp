@@ -1,6 +1,7 @@
 #include "editor/session.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 
@@ -63,6 +64,14 @@ std::vector<std::string> mesh_warnings(const TriangleMesh& mesh) {
     return out;
 }
 
+// The file type a mesh spec names: its extension in lower case, or "builtin".
+std::string file_type(const std::string& spec) {
+    if (spec.rfind("builtin:", 0) == 0) return "builtin";
+    std::string ext = std::filesystem::path(spec).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
 }  // namespace
 
 EditorSession::EditorSession(DeformationFactory gpu, std::string gpu_reason)
@@ -100,6 +109,8 @@ void EditorSession::open_mesh(const std::string& spec) {
     const auto& p = doc.file.mesh.positions;
     if (p.empty()) throw InputError(spec + ": the mesh has no vertices");
     doc.scene.mesh = spec;
+    if (const auto known = up_axis_by_type_.find(file_type(spec)); known != up_axis_by_type_.end())
+        doc.scene.up_axis = known->second;
     // A region around the highest vertex and a curve that lifts it and bends it over.
     const double d = bounding_box(p).diagonal();
     const auto top = static_cast<std::size_t>(
@@ -156,7 +167,7 @@ void EditorSession::changed(unsigned what) {
     // What the view uploads and draws: positions(), s() and the curve.
     if (what & (positions_moved | region_edited | motion_edited)) ++revision_;
     // What save_scene() writes; time advancing toward the target is not a change.
-    if (what & (base_moved | region_edited | motion_edited | target_moved)) ++document_revision_;
+    if (what & (base_moved | region_edited | motion_edited | target_moved | view_set)) ++document_revision_;
 }
 
 Scene EditorSession::current_scene() const {
@@ -279,6 +290,14 @@ RegionSource EditorSession::clean_labels(RegionEdit& paint) const {
 
 double EditorSession::region_band() const {
     return doc_.region.kind == RegionSource::Kind::labels ? doc_.region.band : kDefaultBandFraction * diagonal_;
+}
+
+void EditorSession::set_up_axis(char axis) {
+    if (axis != 'z' && axis != 'y') throw InputError(std::string("up axis: expected z or y, got ") + axis);
+    up_axis_by_type_[file_type(doc_.scene.mesh)] = axis;
+    if (axis == doc_.scene.up_axis) return;
+    doc_.scene.up_axis = axis;
+    changed(view_set);
 }
 
 void EditorSession::new_region() {

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -91,6 +92,10 @@ public:
     // gives it up to the blend region. Turns a scene's or a field's region into
     // labels first.
     void set_region_band(double band);
+    // The axis shown up ('z' or 'y'), stored in the scene; remembered for the
+    // mesh's file type, so the next mesh of that type opens with it.
+    void set_up_axis(char axis);
+    char up_axis() const { return doc_.scene.up_axis; }
     double region_band() const;
     // The band a painted region starts with: kDefaultBandFraction of the diagonal.
     static constexpr double kDefaultBandFraction = 0.25;
@@ -192,6 +197,7 @@ private:
         motion_edited = 1u << 3,    // the curve or handle, or its settings
         target_moved = 1u << 4,     // the target time
         positions_moved = 1u << 5,  // positions() moved: steps taken, or back to the base
+        view_set = 1u << 6,         // how the scene is shown (its up axis)
     };
     void changed(unsigned what);
 
@@ -211,6 +217,7 @@ private:
     void ensure_deformation();
     void update_stats();
 
+    std::map<std::string, char> up_axis_by_type_;  // file extension -> up axis
     DeformationFactory gpu_;
     std::string gpu_reason_;
     bool force_cpu_ = false;

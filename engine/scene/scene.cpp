@@ -174,6 +174,10 @@ void parse_options(const Reader& in, const json& j, Scene& scene) {
         scene.target_time = in.number(j["target_time"], "target_time");
         if (scene.target_time < 0.0 || scene.target_time > 1.0) in.fail("target_time", "expected a time in [0, 1]");
     }
+    if (j.contains("up")) {
+        if (j["up"] != "z" && j["up"] != "y") in.fail("up", "expected \"z\" or \"y\"");
+        scene.up_axis = j["up"] == "y" ? 'y' : 'z';
+    }
 }
 
 }  // namespace
@@ -282,6 +286,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
     j["smoothing"] = scene.options.tangent_smoothing ? "tangent" : "space";
     j["keep_volume"] = scene.options.keep_volume;
     j["target_time"] = scene.target_time;
+    j["up"] = std::string(1, scene.up_axis);
     return j;
 }
 
@@ -303,6 +308,7 @@ const std::vector<SceneKey>& scene_keys() {
         {"steps", "RK4 steps from t = 0 to 1", "250"},
         {"smoothing_steps", "Laplacian smoothing steps on the gradient per integration step", "10"},
         {"target_time", "where vfsd deform stops, in [0, 1]", "1"},
+        {"up", "the axis the editors and vfsd render show up: \"z\" or \"y\" (a Y-up mesh)", "\"z\""},
     };
     return keys;
 }

@@ -49,6 +49,8 @@ struct Scene {
     MotionSpec motion;  // "curve", "inner_motion", "twist_degrees", "twist_plane", "stream_origin"
     DeformationOptions options;
     double target_time = 1.0;
+    // The axis the editors and `vfsd render` show up: 'z' or 'y' (a Y-up mesh).
+    char up_axis = 'z';
 };
 
 // Throws InputError naming the offending field ("scene.json: region.g_max: ...").

@@ -116,6 +116,12 @@ try {
   const widened = await state();
   check(widened.band > band && widened.undo === cleaned.undo + 1,
         `a click on the band slider widens the band (${band} -> ${widened.band}), one undo step`);
+
+  // ---- the up axis: Y up from the View section, saved in the state ----
+  await page.selectOption('#up-axis', 'y');
+  check((await state()).up === 'y', 'the Up axis select makes the scene Y-up');
+  await page.selectOption('#up-axis', 'z');
+  check((await state()).up === 'z', 'and Z-up again');
   check(errors.length === 0, 'no console errors' + (errors.length ? ': ' + errors.join(' | ') : ''));
 } finally {
   await close();
