@@ -286,7 +286,7 @@ TEST_CASE("a scene's up axis is z unless it says y, survives a save, and a third
     const Scene y_up = parse_scene(j, "", "up.json");
     CHECK(y_up.up_axis == 'y');
     CHECK(parse_scene(scene_to_json(y_up), "", "again.json").up_axis == 'y');
-    for (const json bad : {json("x"), json("Y"), json(1), json::array()}) {
+    for (const json& bad : {json("x"), json("Y"), json(1), json::array()}) {
         j["up"] = bad;
         CHECK_THROWS_WITH(parse_scene(j, "", "up.json"), Catch::Contains("up.json: up: expected \"z\" or \"y\""));
     }
