@@ -83,10 +83,10 @@ TEST_CASE("GPU deformation of every scene agrees with the CPU", "[gpu][scene]") 
         const DeformationQuality q_cpu = measure_quality(start, cpu.positions(), triangles, prepared.region.s);
         const DeformationQuality q_gpu = measure_quality(start, result, triangles, prepared.region.s);
         std::printf("gpu-vs-cpu scene %-32s %6zu vertices %3d steps: max error %.3g of the diagonal (99%%: %.3g, %zu over 1e-4), volume error "
-                    "cpu %.4f%% gpu %.4f%%, flipped cpu %zu gpu %zu, %.1f vs %.1f ms/step (cpu vs llvmpipe)\n",
+                    "cpu %.4f%% gpu %.4f%%, flipped cpu %zu gpu %zu, %.1f vs %.1f ms/step (cpu vs %s)\n",
                     std::filesystem::path(file).filename().string().c_str(), start.size(), steps, error / diagonal,
                     p99 / diagonal, over, q_cpu.volume_error_percent, q_gpu.volume_error_percent, q_cpu.flipped_triangles,
-                    q_gpu.flipped_triangles, cpu_ms / steps, gpu_ms / steps);
+                    q_gpu.flipped_triangles, cpu_ms / steps, gpu_ms / steps, test::gpu_context()->renderer().c_str());
         INFO(file);
         CHECK(error < 1e-4 * diagonal);
         CHECK(q_gpu.volume_error_percent < q_cpu.volume_error_percent + 0.05);
