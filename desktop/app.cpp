@@ -53,7 +53,7 @@ GLFWwindow* open_window(const AppOptions& options) {
 App::App(const AppOptions& options) : options_(options), window_(open_window(options)) {
     glfwSetWindowUserPointer(window_, this);
     glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
-        if (count > 0) static_cast<App*>(glfwGetWindowUserPointer(w))->on_drop(paths[0]);
+        if (count > 0) static_cast<App*>(glfwGetWindowUserPointer(w))->on_drop(std::vector<std::string>(paths, paths + count));
     });
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -119,7 +119,10 @@ void App::open(const std::string& path) {
     if (editor_->open(path)) remember(path);
 }
 
-void App::on_drop(const std::string& path) { open(path); }
+// Several files dropped together open together: a scene with the mesh it names.
+void App::on_drop(const std::vector<std::string>& paths) {
+    if (editor_->open(paths)) remember(editor::EditorSession::main_file(paths));
+}
 
 void App::simulate_crash() {
     log("script: simulated crash (the autosave stays)");

@@ -46,7 +46,7 @@ public:
     void log_frame_times(int frames) override;
 
     // Called by GLFW's callbacks.
-    void on_drop(const std::string& path);
+    void on_drop(const std::vector<std::string>& paths);
 
 private:
     void open(const std::string& path);

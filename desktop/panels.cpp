@@ -272,13 +272,13 @@ void App::draw_stats_line() {
         tooltip(st.backend_reason.c_str());
     }
     ImGui::SameLine();
-    ImGui::Text("| %.3f ms/step | volume error %.3f%% |", st.ms_per_step, st.volume_error_percent);
+    ImGui::Text("| %.3f ms/step | volume error %s |", st.ms_per_step, editor::volume_stat_text(st).c_str());
     ImGui::SameLine();
-    if (st.flipped_triangles > 0 && st.first_fold_time >= 0.0)
-        ImGui::TextColored(ImVec4(0.85f, 0.3f, 0.0f, 1.0f), "%zu flipped triangles (since t = %.2f)",
-                           st.flipped_triangles, st.first_fold_time);
+    const std::string flipped = "flipped triangles " + editor::flipped_stat_text(st);
+    if (st.flipped_since_opened > 0 || st.flipped_triangles > 0)
+        ImGui::TextColored(ImVec4(0.85f, 0.3f, 0.0f, 1.0f), "%s", flipped.c_str());
     else
-        ImGui::Text("%zu flipped triangles", st.flipped_triangles);
+        ImGui::TextUnformatted(flipped.c_str());
     ImGui::SameLine();
     ImGui::TextDisabled("| undo %zu, redo %zu", s.history().undo_count(), s.history().redo_count());
 }

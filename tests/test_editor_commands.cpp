@@ -335,3 +335,47 @@ TEST_CASE("Commands: the up axis turns the view, is saved in the scene and remem
     CHECK(glm::length(editor.camera().world_up() - Vec3(0, 0, 1)) < 1e-12);
     CHECK_THROWS_AS(editor.command("up-axis", {{"axis", "x"}}), InputError);
 }
+
+TEST_CASE("Commands: the start-up scene waits at rest, an opened scene plays to its target, a scene and its mesh open together",
+          "[editor][commands][open]") {
+    test::ScratchDir dir;
+    ShellEditor shell_editor(dir);
+    Editor& editor = shell_editor.editor;
+    const PageInfo page{dir.path().string(), "test", false};
+    const auto send = [&](const json& command) { return page_command(editor, command, page); };
+    CHECK(editor.session().target_time() == 0.0);
+    CHECK_FALSE(editor.busy());
+
+    // fig. 4's scene with target_time 0.3, its mesh a file the scene names by a path that is not there.
+    std::filesystem::create_directories(dir.file("elsewhere"));
+    write_mesh_file(dir.file("elsewhere/box.ply"), load_mesh_file("builtin:box").mesh);
+    json scene = scene_to_json(load_scene(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json"));
+    scene["mesh"] = "meshes/box.ply";
+    scene["target_time"] = 0.3;
+    test::write_bytes(dir.file("box-scene.json"), scene.dump());
+
+    const json failed = send({{"cmd", "open"}, {"path", dir.file("box-scene.json")}});
+    CHECK(failed["load_error"].get<std::string>().find("box-scene.json: its mesh box.ply") == 0);
+    CHECK(failed["load_error"].get<std::string>().find("choose box.ply") != std::string::npos);
+    CHECK(send({{"cmd", "state"}})["missing_mesh"] == "box.ply");
+    CHECK(editor.session().mesh_name() == "builtin:box");
+
+    // The mesh chosen next completes the scene, which plays to its target.
+    CHECK(send({{"cmd", "open"}, {"path", dir.file("elsewhere/box.ply")}})["load_error"] == "");
+    json state = send({{"cmd", "state"}});
+    CHECK(state["mesh"] == dir.file("elsewhere/box.ply"));
+    CHECK(state["missing_mesh"] == "");
+    CHECK(state["target_time"] == 0.3);
+    CHECK(editor.busy());
+    while (editor.busy()) editor.advance();
+    CHECK(editor.session().time() == 0.3);
+
+    // Both at once: paired by the mesh's file name.
+    REQUIRE(editor.open("builtin:bar"));
+    CHECK(send({{"cmd", "open"}, {"paths", {dir.file("elsewhere/box.ply"), dir.file("box-scene.json")}}})["load_error"] == "");
+    state = send({{"cmd", "state"}});
+    CHECK(state["mesh"] == dir.file("elsewhere/box.ply"));
+    CHECK(state["target_time"] == 0.3);
+    CHECK(editor.status() == "opened box-scene.json");
+    CHECK(state["stats"]["volume_text"].get<std::string>().find("since opened") != std::string::npos);
+}

@@ -3,7 +3,11 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
+#include "deform/quality.h"
 #include "editor/session.h"
+#include "mesh/geometry.h"
 #include "region/selectors.h"
 
 using namespace vfsd;
@@ -194,4 +198,64 @@ TEST_CASE("Regions a user can reason about: the first stroke starts clean, the b
     REQUIRE(session.undo());
     CHECK(snapshot(session) == painted);
     CHECK_THROWS_AS(session.set_region_band(-1.0), InputError);
+}
+
+TEST_CASE("Apply: its undo plays back to the applied pose, redo applies again; the stats count since opened",
+          "[editor][history][apply]") {
+    EditorSession session;
+    session.open_scene(box_scene());
+    const std::vector<Vec3> opened = session.base_positions();
+    const auto& triangles = session.triangles();
+    const double opened_volume = signed_volume(opened, triangles);
+    session.set_target_time(0.6);
+    run_to_target(session);
+    const std::vector<Vec3> pose = session.positions();
+    const double pose_volume = signed_volume(pose, triangles);
+    const SessionStats first = session.stats();
+    REQUIRE(first.volume_error_percent > 0.0);
+    CHECK_FALSE(first.applied);
+    CHECK(first.volume_error_since_opened_percent == first.volume_error_percent);
+    CHECK(first.flipped_since_opened == first.flipped_triangles);
+
+    session.apply();
+    CHECK(session.time() == 0.0);
+    CHECK(session.target_time() == 0.0);
+    // At rest the stats still say what the apply did to the mesh as opened.
+    CHECK(session.stats().applied);
+    CHECK(session.stats().volume_error_percent == 0.0);
+    CHECK(session.stats().volume_error_since_opened_percent == first.volume_error_percent);
+    CHECK(session.stats().flipped_since_opened == first.flipped_triangles);
+
+    // A further edit: the since-opened figures are against the mesh as opened,
+    // the edit's own against the applied pose.
+    session.set_target_time(1.0);
+    run_to_target(session);
+    const SessionStats second = session.stats();
+    const double volume = signed_volume(session.positions(), triangles);
+    CHECK(second.volume_error_since_opened_percent ==
+          Approx(100.0 * std::abs(volume - opened_volume) / std::abs(opened_volume)).epsilon(1e-9));
+    CHECK(second.volume_error_percent ==
+          Approx(100.0 * std::abs(volume - pose_volume) / std::abs(pose_volume)).epsilon(1e-9));
+    CHECK(second.volume_error_since_opened_percent != second.volume_error_percent);
+    CHECK(second.flipped_since_opened == flipped_triangle_list(opened, session.positions(), triangles).size());
+    CHECK(volume_stat_text(second).find("since opened (this edit ") != std::string::npos);
+    CHECK(flipped_stat_text(second).find(std::to_string(second.flipped_since_opened) + " since opened (this edit ") == 0);
+
+    // Undo: the base as opened, the target back at the applied pose's t, which
+    // the deformation reaches again with the same positions.
+    REQUIRE(session.undo());
+    CHECK(session.base_positions() == opened);
+    CHECK(session.target_time() == 0.6);
+    CHECK_FALSE(session.stats().applied);
+    run_to_target(session);
+    CHECK(session.time() == 0.6);
+    CHECK(session.positions() == pose);
+    CHECK(volume_stat_text(session.stats()).find("this edit") == std::string::npos);
+
+    // Redo bakes the pose again, at rest.
+    REQUIRE(session.redo());
+    CHECK(session.base_positions() == pose);
+    CHECK(session.target_time() == 0.0);
+    CHECK(session.time() == 0.0);
+    CHECK(session.stats().volume_error_since_opened_percent == first.volume_error_percent);
 }

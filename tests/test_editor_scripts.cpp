@@ -154,3 +154,29 @@ TEST_CASE("Scripted sessions: a handle placed and turned by its gizmo", "[editor
     CHECK(session.curve().curve.is_handle);
     check_export_matches_saved_scene(dir, session);
 }
+
+TEST_CASE("Scripted sessions: a loaded scene plays to its target_time; undo of apply plays back to the applied pose",
+          "[editor][script][apply]") {
+    test::ScratchDir dir;
+    EditorSession saved;
+    saved.open_mesh("builtin:bar");
+    saved.pick_geodesic(5, 0.1, 0.5);
+    saved.set_target_time(0.7);
+    saved.save_scene(path_in(dir, "bar-0.7.json"));
+
+    EditorSession scripted;
+    run_script("{\"action\": \"load\", \"path\": \"" + path_in(dir, "bar-0.7.json") + "\"}\n"
+               "{\"action\": \"wait-until-time\", \"t\": 0.7}\n"
+               "{\"action\": \"expect\", \"time\": 0.7}\n"
+               "{\"action\": \"apply\"}\n"
+               "{\"action\": \"expect\", \"time\": 0, \"undo_count\": 1}\n"
+               "{\"action\": \"undo\"}\n"
+               "{\"action\": \"wait-until-time\", \"t\": 0.7}\n"
+               "{\"action\": \"expect\", \"time\": 0.7, \"undo_count\": 0}\n"
+               "{\"action\": \"redo\"}\n"
+               "{\"action\": \"expect\", \"time\": 0, \"undo_count\": 1}\n",
+               scripted);
+    // The redone apply baked the pose at t = 0.7, as the saved scene deforms it.
+    CHECK(scripted.target_time() == 0.0);
+    CHECK(scripted.base_positions() == deform_scene_file(path_in(dir, "bar-0.7.json")));
+}

@@ -238,3 +238,58 @@ TEST_CASE("The session says when its deformation started to fold", "[editor]") {
     session.set_force_cpu(true);  // the deformation is rebuilt
     CHECK(session.stats().first_fold_time == -1.0);
 }
+
+TEST_CASE("EditorSession: a scene opens playing to its target_time and finds its mesh by name beside it",
+          "[editor][session][open]") {
+    namespace fs = std::filesystem;
+    test::ScratchDir dir;
+    write_mesh_file(dir.file("bar.obj"), load_mesh_file("builtin:bar").mesh);
+    EditorSession session;
+    session.open_mesh(dir.file("bar.obj"));
+    CHECK(session.target_time() == 0.0);  // a mesh opens at rest
+    session.set_target_time(0.4);
+    session.save_scene(dir.file("saved.json"));
+    const std::vector<double> s = session.s();
+
+    // The scene names its mesh in a folder that is not there.
+    nlohmann::json scene = nlohmann::json::parse(test::read_bytes(dir.file("saved.json")));
+    scene["mesh"] = "meshes/bar.obj";
+    for (const char* folder : {"a", "b", "c"}) fs::create_directories(dir.file(folder));
+    test::write_bytes(dir.file("a/scene.json"), scene.dump());
+    test::write_bytes(dir.file("b/scene.json"), scene.dump());
+    fs::copy_file(dir.file("bar.obj"), dir.file("a/bar.obj"));
+    fs::copy_file(dir.file("bar.obj"), dir.file("c/bar.obj"));
+
+    SECTION("beside the scene") {
+        session.open(dir.file("a/scene.json"));
+        CHECK(fs::equivalent(session.mesh_name(), dir.file("a/bar.obj")));
+        CHECK(session.target_time() == 0.4);
+        CHECK(session.s() == s);
+        run_to_target(session);
+        CHECK(session.time() == 0.4);
+    }
+    SECTION("missing: the error names it, and opening it next completes the scene") {
+        try {
+            session.open(dir.file("b/scene.json"));
+            FAIL("the scene opened without its mesh");
+        } catch (const MissingMesh& e) {
+            CHECK(e.file == "bar.obj");
+            CHECK(std::string(e.what()).find("choose bar.obj") != std::string::npos);
+        }
+        CHECK(session.missing_mesh() == "bar.obj");
+        CHECK(session.target_time() == 0.4);  // the document before stays
+        CHECK(fs::equivalent(session.mesh_name(), dir.file("bar.obj")));
+        session.open(dir.file("c/bar.obj"));
+        CHECK(session.missing_mesh().empty());
+        CHECK(fs::equivalent(session.mesh_name(), dir.file("c/bar.obj")));
+        CHECK(session.target_time() == 0.4);  // the scene's, not a mesh's rest
+        CHECK(session.s() == s);
+    }
+    SECTION("several files at once: the scene with the mesh it names among them") {
+        session.open(std::vector<std::string>{dir.file("c/bar.obj"), dir.file("b/scene.json")});
+        CHECK(fs::equivalent(session.mesh_name(), dir.file("c/bar.obj")));
+        CHECK(session.target_time() == 0.4);
+        CHECK(session.s() == s);
+        CHECK(EditorSession::main_file({dir.file("c/bar.obj"), dir.file("b/scene.json")}) == dir.file("b/scene.json"));
+    }
+}

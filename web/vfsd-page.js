@@ -237,9 +237,8 @@
     $('stat-triangles').textContent = st.triangles;
     $('stat-backend').textContent = st.backend + (st.backend === 'gpu' ? ' (WebGL2)' : '');
     $('stat-ms').textContent = fmt(st.ms_per_step);
-    $('stat-volume').textContent = fmt(st.volume_error_percent) + ' %';
-    $('stat-flipped').textContent = st.flipped_triangles +
-        (st.flipped_triangles > 0 && st.first_fold_time >= 0 ? ` (since t = ${st.first_fold_time.toFixed(2)})` : '');
+    $('stat-volume').textContent = st.volume_text;
+    $('stat-flipped').textContent = st.flipped_text;
     $('stat-history').textContent = s.undo + ' / ' + s.redo;
     const note = $('backend-note');
     note.hidden = st.backend === 'gpu';
@@ -368,19 +367,21 @@
     });
   }
 
-  // Writes the files into the engine's /files and opens the scene among them, else the first mesh.
+  // Writes the files into the engine's /files and opens them together: a scene with
+  // the mesh it names among them (or one chosen before), else the first file. A
+  // scene whose mesh is missing asks for it ("choose NAME"); that mesh opened next completes it.
   async function openFiles(files) {
     if (!files.length) return;
     showError('');
-    let target = null;
+    const paths = [];
     for (const file of files) {
-      const path = '/files/' + safeName(file.name);
-      Module.FS.writeFile(path, await readFile(file));
-      if (!target || /\.json$/i.test(path)) target = path;
+      paths.push('/files/' + safeName(file.name));
+      Module.FS.writeFile(paths[paths.length - 1], await readFile(file));
     }
-    $('status').textContent = 'opening ' + target.split('/').pop() + '…';
+    const main = paths.find((p) => /\.json$/i.test(p)) || paths[0];
+    $('status').textContent = 'opening ' + main.split('/').pop() + '…';
     await new Promise((r) => setTimeout(r, 0));  // let the page paint the message
-    const r = run({ cmd: 'open', path: target });
+    const r = run({ cmd: 'open', paths });
     if (!r) return;
     shown.loadError = r.load_error;
     if (r.load_error) showError(r.load_error, true);  // web/main.cpp logged it
@@ -500,7 +501,7 @@
     },
     open: async (path) => {
       await ready;
-      const r = command({ cmd: 'open', path });
+      const r = command(Array.isArray(path) ? { cmd: 'open', paths: path } : { cmd: 'open', path });
       if (r.load_error) throw new Error(r.load_error);
     },
     runTo: async (t) => {

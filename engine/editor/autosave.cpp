@@ -156,9 +156,7 @@ bool Autosave::restore(EditorSession& session) {
     const std::optional<AutosaveInfo> info = find();
     if (info) {
         try {
-            const Scene scene = load_scene(info->scene);
-            session.open_scene(scene);  // throws before changing anything
-            session.set_target_time(scene.target_time);
+            session.open_scene(load_scene(info->scene));  // throws before changing anything; plays to its target
             mark_saved(session);
             restored_mesh_ = std::make_pair(info->mesh, session.mesh_revision());
             return true;

@@ -42,12 +42,14 @@ struct CurveChange {
 };
 
 // "Apply": the deformed positions become the base mesh; the region is kept as the
-// field it was, and the curve restarts where the old one ended.
+// field it was, and the curve restarts where the old one ended. Its undo plays
+// the old deformation to `time` again (the pose that was applied).
 struct BakeChange {
     std::vector<Vec3> before, after;
     RegionSource region_before, region_after;
     MotionSpec motion_before, motion_after;
     bool baked_before = false;
+    double time = 0.0;
 };
 
 using Edit = std::variant<RegionChange, CurveChange, BakeChange>;

@@ -30,10 +30,14 @@ CommandContext Editor::context() { return {*session_, tools_, camera_, settings_
 
 // ---- documents ----------------------------------------------------------------------
 
-bool Editor::open(const std::string& path) {
+bool Editor::open(const std::string& path) { return open(std::vector<std::string>{path}); }
+
+bool Editor::open(const std::vector<std::string>& paths) {
     // A failed load keeps the current document and says why.
+    std::string path = paths.empty() ? "" : paths.front();
     try {
-        session_->open(path);
+        path = EditorSession::main_file(paths);
+        session_->open(paths);
         tools_.adapt_to(*session_);
         loaded();
         load_error_.clear();
@@ -50,6 +54,7 @@ void Editor::open_default(const std::string& scene_path, bool offer_autosave) {
     if (session_->triangles().empty()) {
         try {
             session_->open_scene_file(scene_path);
+            session_->set_target_time(0.0);  // the start-up document waits for Play
         } catch (const std::exception& e) {
             log(std::string("default scene: ") + e.what());
             session_->open_mesh("builtin:box");

@@ -88,9 +88,13 @@ public:
     // Wall time per step of the last frame's steps (GPU read-back included).
     double ms_per_step() const { return ms_per_step_; }
 
-    // Opens a mesh or scene file; a failure keeps the document and sets load_error().
+    // Opens a mesh or scene file, or several files at once (a scene and its mesh:
+    // EditorSession::open); a failure keeps the document and sets load_error()
+    // (a scene whose mesh is missing: "choose NAME", and the next open of NAME completes it).
     bool open(const std::string& path);
-    // The default scene, else the built-in box; at start-up (offers the autosave).
+    bool open(const std::vector<std::string>& paths);
+    // The default scene (at rest, not played to its target), else the built-in box;
+    // at start-up (offers the autosave).
     void open_default(const std::string& scene_path, bool offer_autosave);
     void open_scene(const Scene& scene);
     // Runs a command of the table (editor/commands.h); throws InputError.

@@ -57,7 +57,12 @@ json stats_json(const Editor& editor) {
             {"ms_per_step", editor.ms_per_step()},
             {"volume_error_percent", st.volume_error_percent},
             {"flipped_triangles", st.flipped_triangles},
-            {"first_fold_time", st.first_fold_time}};
+            {"first_fold_time", st.first_fold_time},
+            {"volume_error_since_opened_percent", st.volume_error_since_opened_percent},
+            {"flipped_since_opened", st.flipped_since_opened},
+            {"applied", st.applied},
+            {"volume_text", volume_stat_text(st)},
+            {"flipped_text", flipped_stat_text(st)}};
 }
 
 json autosave_json(const Editor& editor) {
@@ -159,6 +164,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
             {"warnings", s.warnings()},
             {"message", tools.message},
             {"load_error", editor.load_error()},
+            {"missing_mesh", s.missing_mesh()},
             {"status", editor.status()},
             {"loops", {tools.loops().size(), tools.loop_in_progress().size()}},
             {"context_lost", page.context_lost},
@@ -192,7 +198,9 @@ json page_command(Editor& editor, const json& c, const PageInfo& page) {
     const std::string cmd = c.value("cmd", std::string());
     if (cmd == "state") return page_state(editor, page);
     if (cmd == "open") {
-        editor.open(c.value("path", std::string()));  // a failure keeps the document and says why
+        // One path, or several at once (a scene and its mesh); a failure keeps the document and says why.
+        if (c.contains("paths")) editor.open(c.at("paths").get<std::vector<std::string>>());
+        else editor.open(c.value("path", std::string()));
         return {{"load_error", editor.load_error()}};
     }
     if (cmd == "load-scene") return load_scene(editor, c.value("scene", json()), page);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "base/error.h"
@@ -64,6 +65,31 @@ std::vector<std::string> mesh_warnings(const TriangleMesh& mesh) {
     return out;
 }
 
+bool is_scene_file(const std::string& path) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    return ext == ".json" || ext == ".JSON";
+}
+
+std::string file_name(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+
+// |volume - reference| in percent of |reference| (0 without a reference volume).
+double volume_error_percent(double volume, double reference) {
+    return reference != 0.0 ? 100.0 * std::abs(volume - reference) / std::abs(reference) : 0.0;
+}
+
+// A scene file's mesh (scene.h resolved it against the scene's folder): there, else
+// the file of that name beside the scene (a scene and its mesh moved or uploaded
+// together); neither throws MissingMesh naming the file.
+std::string find_scene_mesh(const std::string& mesh, const std::string& scene_path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (mesh.rfind("builtin:", 0) == 0 || fs::exists(mesh, ec)) return mesh;
+    const std::string name = file_name(mesh);
+    const fs::path beside = fs::path(scene_path).parent_path() / name;
+    if (fs::exists(beside, ec)) return beside.string();
+    throw MissingMesh("its mesh " + name + " is not at " + mesh + " nor beside the scene: choose " + name, name);
+}
+
 // The file type a mesh spec names: its extension in lower case, or "builtin".
 std::string file_type(const std::string& spec) {
     if (spec.rfind("builtin:", 0) == 0) return "builtin";
@@ -73,6 +99,27 @@ std::string file_type(const std::string& spec) {
 }
 
 }  // namespace
+
+std::string volume_stat_text(const SessionStats& st) {
+    char text[96];
+    if (st.applied)
+        std::snprintf(text, sizeof text, "%.3f %% since opened (this edit %.3f %%)", st.volume_error_since_opened_percent,
+                      st.volume_error_percent);
+    else
+        std::snprintf(text, sizeof text, "%.3f %% since opened", st.volume_error_since_opened_percent);
+    return text;
+}
+
+std::string flipped_stat_text(const SessionStats& st) {
+    std::string text = std::to_string(st.flipped_since_opened) + " since opened";
+    std::string edit = st.applied ? "this edit " + std::to_string(st.flipped_triangles) : "";
+    if (st.flipped_triangles > 0 && st.first_fold_time >= 0.0) {
+        char from[32];
+        std::snprintf(from, sizeof from, "from t = %.2f", st.first_fold_time);
+        edit += (edit.empty() ? "" : ", ") + std::string(from);
+    }
+    return edit.empty() ? text : text + " (" + edit + ")";
+}
 
 EditorSession::EditorSession(DeformationFactory gpu, std::string gpu_reason)
     : gpu_(std::move(gpu)), gpu_reason_(std::move(gpu_reason)) {
@@ -91,7 +138,11 @@ void EditorSession::predict_backend() {
 
 // ---- loading and saving --------------------------------------------------
 
-void EditorSession::open_scene_file(const std::string& path) { open_scene(load_scene(path)); }
+void EditorSession::open_scene_file(const std::string& path, const std::string& mesh) {
+    Scene scene = load_scene(path);
+    scene.mesh = mesh.empty() ? find_scene_mesh(scene.mesh, path) : mesh;
+    open_scene(scene);
+}
 
 void EditorSession::open_scene(const Scene& scene) {
     Document doc;
@@ -109,6 +160,7 @@ void EditorSession::open_mesh(const std::string& spec) {
     const auto& p = doc.file.mesh.positions;
     if (p.empty()) throw InputError(spec + ": the mesh has no vertices");
     doc.scene.mesh = spec;
+    doc.scene.target_time = 0.0;  // a mesh opens at rest
     if (const auto known = up_axis_by_type_.find(file_type(spec)); known != up_axis_by_type_.end())
         doc.scene.up_axis = known->second;
     // A region around the highest vertex and a curve that lifts it and bends it over.
@@ -127,9 +179,39 @@ void EditorSession::open_mesh(const std::string& spec) {
 }
 
 void EditorSession::open(const std::string& path) {
-    const std::string ext = std::filesystem::path(path).extension().string();
-    if (ext == ".json" || ext == ".JSON") open_scene_file(path);
-    else open_mesh(path);
+    if (is_scene_file(path)) {
+        try {
+            open_scene_file(path);
+        } catch (const MissingMesh& e) {
+            missing_ = {path, e.file};
+            throw;
+        }
+    } else if (!missing_.mesh.empty() && file_name(path) == missing_.mesh) {
+        open_scene_file(missing_.scene, path);
+    } else {
+        open_mesh(path);
+    }
+    missing_ = {};
+}
+
+const std::string& EditorSession::main_file(const std::vector<std::string>& paths) {
+    if (paths.empty()) throw InputError("open: no file given");
+    const auto scene = std::find_if(paths.begin(), paths.end(), is_scene_file);
+    return scene != paths.end() ? *scene : paths.front();
+}
+
+void EditorSession::open(const std::vector<std::string>& paths) {
+    const std::string& main = main_file(paths);
+    if (is_scene_file(main)) {
+        const std::string mesh = file_name(load_scene(main).mesh);
+        for (const std::string& path : paths)
+            if (!is_scene_file(path) && file_name(path) == mesh) {
+                open_scene_file(main, path);
+                missing_ = {};
+                return;
+            }
+    }
+    open(main);
 }
 
 void EditorSession::replace_document(Document doc) {
@@ -140,7 +222,6 @@ void EditorSession::replace_document(Document doc) {
     std::vector<std::string> region_warnings;
     Region region = build_region(doc.region.spec, doc.file.mesh.positions, doc.rings, region_warnings);
     InnerMotion motion = build_motion(doc.scene.motion);
-    doc.scene.target_time = 0.0;  // a document opens at rest
     doc_ = std::move(doc);
     motion_ = std::move(motion);
     s_ = std::move(region.s);
@@ -149,7 +230,9 @@ void EditorSession::replace_document(Document doc) {
     region_gesture_ = curve_gesture_ = false;
     diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
     if (!(diagonal_ > 0.0)) diagonal_ = 1.0;
-    base_volume_ = signed_volume(doc_.file.mesh.positions, doc_.file.mesh.triangles);
+    opened_positions_ = doc_.file.mesh.positions;
+    opened_volume_ = signed_volume(opened_positions_, doc_.file.mesh.triangles);
+    base_moved_stats();
     stats_.vertices = doc_.file.mesh.vertex_count();
     stats_.triangles = doc_.file.mesh.triangle_count();
     drop_deformation();
@@ -507,7 +590,19 @@ void EditorSession::drop_deformation() {
     stats_.flipped_triangles = 0;
     folded_.clear();
     stats_.first_fold_time = -1.0;
+    stats_.volume_error_since_opened_percent = base_since_opened_.volume_error_percent;
+    stats_.flipped_since_opened = base_since_opened_.flipped;
     predict_backend();
+}
+
+// New base positions (opened, applied, or that undone): what the applies so far
+// did to the mesh as opened, the since-opened stats at rest.
+void EditorSession::base_moved_stats() {
+    const auto& mesh = doc_.file.mesh;
+    base_volume_ = signed_volume(mesh.positions, mesh.triangles);
+    stats_.applied = doc_.baked;
+    base_since_opened_.volume_error_percent = volume_error_percent(base_volume_, opened_volume_);
+    base_since_opened_.flipped = doc_.baked ? flipped_triangle_list(opened_positions_, mesh.positions, mesh.triangles).size() : 0;
 }
 
 void EditorSession::ensure_deformation() {
@@ -549,9 +644,12 @@ void EditorSession::update_stats() {
     const auto& now = deformation_->positions();
     const auto& mesh = doc_.file.mesh;
     const double volume = signed_volume(now, mesh.triangles);
-    stats_.volume_error_percent = base_volume_ != 0.0 ? 100.0 * std::abs(volume - base_volume_) / std::abs(base_volume_) : 0.0;
+    stats_.volume_error_percent = volume_error_percent(volume, base_volume_);
     folded_ = flipped_triangle_list(mesh.positions, now, mesh.triangles);
     stats_.flipped_triangles = folded_.size();
+    stats_.volume_error_since_opened_percent = volume_error_percent(volume, opened_volume_);
+    stats_.flipped_since_opened =
+        doc_.baked ? flipped_triangle_list(opened_positions_, now, mesh.triangles).size() : folded_.size();
     if (stats_.flipped_triangles > 0 && stats_.first_fold_time < 0.0) stats_.first_fold_time = time();
 }
 
@@ -586,6 +684,7 @@ void EditorSession::apply() {
     bake.motion_before = doc_.scene.motion;
     bake.motion_after = doc_.scene.motion;
     bake.baked_before = doc_.baked;
+    bake.time = time();
     // The next deformation starts where this one ended: a straight curve along the
     // end tangent (handle mode: the handle at its target, moved along its normal).
     const double length = std::max(0.25 * motion_.curve().polygon_length(), 0.05 * diagonal_);
@@ -604,7 +703,6 @@ void EditorSession::apply() {
     bake.motion_after.twist_degrees[0] = bake.motion_after.twist_degrees[1] = 0.0;
     apply_edit(bake, true);
     history_.push({"apply deformation", std::move(bake)});
-    set_target(0.0);
 }
 
 void EditorSession::apply_edit(const Edit& edit, bool forward) {
@@ -624,10 +722,11 @@ void EditorSession::apply_edit(const Edit& edit, bool forward) {
         doc_.region = forward ? b->region_after : b->region_before;
         doc_.scene.motion = forward ? b->motion_after : b->motion_before;
         diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
-        base_volume_ = signed_volume(doc_.file.mesh.positions, doc_.file.mesh.triangles);
+        base_moved_stats();
         changed(base_moved);
         region_changed();
         curve_changed();
+        set_target(forward ? 0.0 : b->time);
     }
 }
 

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "base/error.h"
 #include "deform/deformation.h"
 #include "editor/edit_history.h"
 #include "editor/picking.h"
@@ -37,9 +38,26 @@ struct SessionStats {
     std::string backend = "cpu";  // of the running deformation (or the one the next will use)
     std::string backend_reason;   // why not the GPU, when the CPU runs
     double ms_per_step = 0.0;
-    double volume_error_percent = 0.0;  // live, against the base mesh
-    std::size_t flipped_triangles = 0;  // live, against the base mesh
+    double volume_error_percent = 0.0;  // live, against the base mesh (this edit)
+    std::size_t flipped_triangles = 0;  // live, against the base mesh (this edit)
     double first_fold_time = -1.0;      // when folds were first counted in this deformation (−1: never)
+    // Live against the mesh as opened, across applies (equal to the above until one).
+    double volume_error_since_opened_percent = 0.0;
+    std::size_t flipped_since_opened = 0;
+    bool applied = false;  // the base mesh is an applied deformation (the two pairs may differ)
+};
+
+// The volume error and flipped triangles as both editors show them: since the
+// mesh was opened, and after an apply the current edit's own figure too
+// ("0.004 % since opened (this edit 0.001 %)", "3 since opened (this edit 1, from t = 0.42)").
+std::string volume_stat_text(const SessionStats& stats);
+std::string flipped_stat_text(const SessionStats& stats);
+
+// A scene file whose mesh is neither where the scene says nor beside it; `file`
+// is the mesh's file name, the one to open next (Editor::open completes the scene).
+struct MissingMesh : InputError {
+    MissingMesh(const std::string& message, std::string file_name) : InputError(message), file(std::move(file_name)) {}
+    std::string file;
 };
 
 enum class BrushTool { paint_inner, paint_outer, erase, paint_s };
@@ -57,14 +75,26 @@ public:
     explicit EditorSession(DeformationFactory gpu = {}, std::string gpu_reason = "no GPU context");
 
     // Loading. Each either succeeds and replaces the document (clearing the
-    // history) or throws and leaves everything as it was.
-    void open_scene_file(const std::string& path);
+    // history) or throws and leaves everything as it was. A scene opens with its
+    // target_time as the target (update() plays there); a mesh opens at rest.
+    // A scene file's mesh is `mesh` when given, else the path it names, else the
+    // file of that name beside the scene; neither throws MissingMesh.
+    void open_scene_file(const std::string& path, const std::string& mesh = "");
     void open_scene(const Scene& scene);
     // A mesh file or builtin:NAME with a starting region (geodesic around the
     // highest vertex) and curve (from there up and sideways), ready to scrub.
     void open_mesh(const std::string& spec);
-    // .json opens a scene, anything else a mesh.
+    // .json opens a scene, anything else a mesh; a mesh of the name missing_mesh()
+    // says opens the scene that named it, with this mesh.
     void open(const std::string& path);
+    // Several files at once (a drop, a choice of several): the first scene among
+    // them opens with the one whose file name is its mesh's, else as open() would;
+    // without a scene the first file opens. main_file() is the one that names it.
+    void open(const std::vector<std::string>& paths);
+    static const std::string& main_file(const std::vector<std::string>& paths);
+    // The mesh file name a scene opened without its mesh asked for (MissingMesh);
+    // empty when none, or after another file opened.
+    const std::string& missing_mesh() const { return missing_.mesh; }
 
     // The session as a scene. save_scene writes it with what it needs
     // (scene/scene_package.h: the base mesh next to it as NAME.mesh.ply after an
@@ -124,7 +154,9 @@ public:
     void reset();  // back to t = 0 at once
     // Takes at most `max_steps` steps toward the target; returns how many.
     int update(int max_steps);
-    // Bakes the deformed mesh as the new base (one undo step). No-op at t = 0.
+    // Bakes the deformed mesh as the new base (one undo step) and sets the target
+    // to 0. No-op at t = 0. Its undo restores the base and sets the target back to
+    // the time it was applied at (update() plays there again); redo applies again.
     void apply();
 
     bool undo();
@@ -216,8 +248,12 @@ private:
     void predict_backend();
     void ensure_deformation();
     void update_stats();
+    void base_moved_stats();
 
     std::map<std::string, char> up_axis_by_type_;  // file extension -> up axis
+    struct {
+        std::string scene, mesh;  // the scene file, and its mesh's file name
+    } missing_;
     DeformationFactory gpu_;
     std::string gpu_reason_;
     bool force_cpu_ = false;
@@ -230,6 +266,13 @@ private:
     InnerMotion motion_;
     double diagonal_ = 1.0;
     double base_volume_ = 0.0;
+    // The mesh as opened, for the stats since then (kept across applies).
+    std::vector<Vec3> opened_positions_;
+    double opened_volume_ = 0.0;
+    struct {
+        double volume_error_percent = 0.0;
+        std::size_t flipped = 0;
+    } base_since_opened_;
 
     EditHistory history_;
     bool region_gesture_ = false, curve_gesture_ = false;

@@ -119,7 +119,7 @@ try {
   check(outerMove <= 1e-6 * diag, `outer region unchanged (max move ${outerMove.toExponential(2)})`);
   const stats = await api(() => window.vfsd.stats());
   const shown = await page.locator('#stat-volume').textContent();
-  check(/^\d+\.\d+ %$/.test(shown.trim()), `volume error shown: ${shown.trim()}`);
+  check(/^\d+\.\d+ % since opened$/.test(shown.trim()), `volume error shown: ${shown.trim()}`);
   check(Math.abs(parseFloat(shown) - stats.volume_error_percent) < 1e-3 && stats.volume_error_percent > 0,
         'the panel shows the live volume error');
   const reason = (await state()).backend_reason;
