@@ -158,6 +158,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
             {"mesh", s.mesh_name()},
             {"warnings", s.warnings()},
             {"message", tools.message},
+            {"hint", tools.hint},
             {"load_error", editor.load_error()},
             {"status", editor.status()},
             {"loops", {tools.loops().size(), tools.loop_in_progress().size()}},

@@ -179,10 +179,39 @@ void ToolController::dab(EditorSession& session, const SurfaceHit& hit) {
     session.brush(hit.point, b);
 }
 
+// Where the dragged point goes. A control point moves on the plane through its
+// start facing the view (or along the chosen axis). The curve's end knot, dragged
+// free, lands on the surface under the pointer when there is one outside the
+// inner region (which moves with the end): one drag puts the end, where the inner
+// region's centre goes, onto or next to what it should reach; off the mesh it stays
+// on the view plane through its start.
+Vec3 ToolController::dragged_point_position(const EditorSession& session, const Camera& camera,
+                                            const Viewport& viewport, double x, double y) {
+    const CurveSpec& c = session.curve().curve;
+    const bool end_knot = !c.is_handle && *point_ + 1 == c.bezier.size();
+    if (end_knot && axis < 0) {
+        if (const auto hit = session.pick_surface(camera.ray(x, y, viewport))) {
+            const Triangle& t = session.triangles()[hit->point.triangle];
+            const std::vector<double>& s = session.s();
+            const Vec3& w = hit->point.barycentric;
+            // s = 0 in the inner region (eq. 16): it moves with the end, no place to land.
+            const double s_hit = s.size() == session.base_positions().size()
+                                     ? w[0] * s[t[0]] + w[1] * s[t[1]] + w[2] * s[t[2]]
+                                     : 1.0;
+            if (s_hit > 1e-9) {
+                hint = "curve end on the surface under the pointer";
+                return hit->position;
+            }
+        }
+        hint = "curve end on the view plane (over the mesh it lands on the surface)";
+    }
+    return drag_point(point_start_, x, y, camera, viewport, axis);
+}
+
 void ToolController::drag(EditorSession& session, const Camera& camera, const Viewport& viewport, double x, double y) {
     try {
         if (active_ == Active::point) {
-            session.move_control_point(*point_, drag_point(point_start_, x, y, camera, viewport, axis));
+            session.move_control_point(*point_, dragged_point_position(session, camera, viewport, x, y));
         } else if (active_ == Active::gizmo) {
             drag_gizmo(session, camera, viewport, x, y);
         } else if (active_ == Active::stroke) {
@@ -204,6 +233,7 @@ void ToolController::release(EditorSession& session) {
     active_ = Active::none;
     point_.reset();
     gizmo_part_ = GizmoPart::none;
+    hint.clear();
 }
 
 void ToolController::close_loop() {
