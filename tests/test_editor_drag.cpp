@@ -1,7 +1,7 @@
 // Dragging the curve's end knot: over the mesh (outside the inner region) it lands
 // on the surface point under the pointer; off the mesh it stays on the plane
-// through its start facing the view; an axis drag ignores the surface; the drag
-// is one undo step.
+// through its start facing the view; an axis drag ignores the surface; the last
+// segment is turned and scaled along, keeping its shape; the drag is one undo step.
 
 #include <catch2/catch.hpp>
 
@@ -81,9 +81,17 @@ TEST_CASE("End knot drag: over the mesh the end lands on the surface under the p
     CHECK(std::abs(glm::dot(moved - start, d.camera.forward())) > 1e-3 * d.session.diagonal());
     CHECK(d.tools.hint.empty());  // the hint lasts as long as the drag
 
-    // One undo step brings the curve back; the other points never moved.
+    // The last segment keeps its shape: turned and scaled about its first knot;
+    // the knots before it never moved.
     const std::vector<Vec3> after = d.session.control_points();
-    for (std::size_t i = 0; i < d.end; ++i) CHECK(after[i] == before[i]);
+    for (std::size_t i = 0; i + 3 <= d.end; ++i) CHECK(after[i] == before[i]);
+    const std::size_t a = d.end - 3;
+    const double scale = glm::length(after[d.end] - after[a]) / glm::length(before[d.end] - before[a]);
+    for (std::size_t i = a + 1; i <= d.end; ++i)
+        for (std::size_t j = a; j < i; ++j)
+            CHECK(glm::length(after[i] - after[j]) ==
+                  Approx(scale * glm::length(before[i] - before[j])).margin(1e-9 * d.session.diagonal()));
+    // One undo step brings the curve back.
     REQUIRE(d.session.undo());
     CHECK(d.session.control_points() == before);
     REQUIRE(d.session.redo());

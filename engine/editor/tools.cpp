@@ -48,6 +48,7 @@ void ToolController::press_control_point(EditorSession& session, std::size_t ind
     active_ = Active::point;
     point_ = index;
     point_start_ = points[index];
+    curve_start_ = points;
 }
 
 bool ToolController::press(EditorSession& session, const Camera& camera, const Viewport& viewport, double x,
@@ -208,10 +209,47 @@ Vec3 ToolController::dragged_point_position(const EditorSession& session, const 
     return drag_point(point_start_, x, y, camera, viewport, axis);
 }
 
+namespace {
+
+// The control points as they were, the last segment turned and scaled about its
+// first knot so that its end goes from where it was to `end`: the curve keeps its
+// shape, so one drag of the end makes a whole new path.
+std::vector<Vec3> end_segment_moved(std::vector<Vec3> b, const Vec3& end) {
+    const std::size_t n = b.size();
+    const Vec3 a = b[n - 4], from = b[n - 1] - a, to = end - a;
+    b[n - 1] = end;
+    const double lf = glm::length(from), lt = glm::length(to);
+    if (lf < 1e-12 || lt < 1e-12) return b;
+    const Vec3 u = from / lf, v = to / lt;
+    const Vec3 k = glm::cross(u, v);
+    const double sin_a = glm::length(k), cos_a = glm::dot(u, v);
+    for (std::size_t i = n - 3; i < n - 1; ++i) {
+        Vec3 p = b[i] - a;
+        if (sin_a > 1e-12) {  // Rodrigues about k
+            const Vec3 e = k / sin_a;
+            p = p * cos_a + glm::cross(e, p) * sin_a + e * glm::dot(e, p) * (1.0 - cos_a);
+        } else if (cos_a < 0.0) {
+            p = -p;
+        }
+        b[i] = a + (lt / lf) * p;
+    }
+    return b;
+}
+
+}  // namespace
+
 void ToolController::drag(EditorSession& session, const Camera& camera, const Viewport& viewport, double x, double y) {
     try {
         if (active_ == Active::point) {
-            session.move_control_point(*point_, dragged_point_position(session, camera, viewport, x, y));
+            const Vec3 to = dragged_point_position(session, camera, viewport, x, y);
+            MotionSpec next = session.curve();
+            const std::vector<Vec3>& b = next.curve.bezier;
+            if (!next.curve.is_handle && b.size() >= 4 && *point_ + 1 == b.size() && curve_start_.size() == b.size()) {
+                next.curve.bezier = end_segment_moved(curve_start_, to);
+                session.set_curve(next);
+            } else {
+                session.move_control_point(*point_, to);
+            }
         } else if (active_ == Active::gizmo) {
             drag_gizmo(session, camera, viewport, x, y);
         } else if (active_ == Active::stroke) {

@@ -5,7 +5,8 @@
 //
 //   navigate  drag a control point (screen plane, or along one axis); the curve's
 //             end knot, dragged free over the mesh, lands on the surface under the
-//             pointer (drag_end_knot below); in handle
+//             pointer, its segment turned and scaled along (dragged_point_position,
+//             tools.cpp); in handle
 //             mode drag the target's gizmo (editor/handle_gizmo.h); elsewhere orbit
 //   geodesic  click a vertex: the geodesic level region (eq. 15) with g_min / g_max
 //   inner / outer / erase   paint labels with a geodesic brush (eq. 16 region)
@@ -87,6 +88,7 @@ private:
     GizmoPart gizmo_part_ = GizmoPart::none;
     glm::dvec2 gizmo_last_{0.0};
     Vec3 point_start_{0.0};
+    std::vector<Vec3> curve_start_;  // the control points when the drag began
     std::optional<Vec3> last_dab_;
     std::vector<SurfaceLoop> loops_;
     SurfaceLoop current_;
