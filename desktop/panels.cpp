@@ -203,6 +203,7 @@ void App::draw_tools_panel() {
         if (ImGui::Button("Clear loops")) command("clear-loops");
     }
     if (!tools.message.empty()) ImGui::TextWrapped("%s", tools.message.c_str());
+    if (!tools.hint.empty()) ImGui::TextWrapped("%s", tools.hint.c_str());
 }
 
 void App::draw_curve_panel() {

@@ -243,7 +243,7 @@
     const note = $('backend-note');
     note.hidden = st.backend === 'gpu';
     note.textContent = st.backend === 'gpu' ? '' : 'CPU path: ' + (s.backend_reason || 'GPU path not available');
-    $('tool-message').textContent = s.message + (s.tool === 'loops' ? ` (loops: ${s.loops[0]} closed, ${s.loops[1]} points)` : '');
+    $('tool-message').textContent = (s.message || s.hint) + (s.tool === 'loops' ? ` (loops: ${s.loops[0]} closed, ${s.loops[1]} points)` : '');
     // The engine's error and status lines, each shown when it changes.
     if (s.load_error !== shown.loadError) {
       shown.loadError = s.load_error;

@@ -18,8 +18,11 @@
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb_image.h>
 
+#include "base/rigid_fit.h"
+#include "deform/quality.h"
 #include "io/mesh_file.h"
 #include "mesh/geometry.h"
+#include "scene/prepared_scene.h"
 
 using namespace vfsd;
 
@@ -220,4 +223,85 @@ TEST_CASE("vfsd-desktop: after a crash the restarted editor restores the autosav
     // With a file on the command line nothing is offered.
     REQUIRE(run_script(s, "crash2", edit, "--backend cpu") == 3);
     CHECK(run_script(s, "file", restore, "--backend cpu builtin:box") == 1);
+}
+
+namespace {
+
+// A new user's first edit on CGAL's armadillo (Y up, facing -z: the "back" view
+// shows its face): a new region, the right hand painted inner and the body outer
+// with the tools' strokes, the inner region translated, the curve's end dragged
+// up once, t = 1. Pixels of the 1280 x 800 window.
+std::string armadillo_script(const std::string& mesh, const std::string& p) {
+    return "{\"action\": \"load\", \"path\": \"" + mesh + "\"}\n"
+           "{\"action\": \"up-axis\", \"axis\": \"y\"}\n"
+           "{\"action\": \"view\", \"name\": \"back\"}\n"
+           "{\"action\": \"wait-frames\", \"n\": 2}\n"
+           "{\"action\": \"screenshot\", \"path\": \"" + p + "-open.png\", \"ui\": false}\n"
+           "{\"action\": \"new-region\"}\n"
+           "{\"action\": \"inner-motion\", \"mode\": \"translation\"}\n"
+           "{\"action\": \"paint\", \"tool\": \"inner\", \"radius\": 9, \"points\": [[462, 180], [458, 200], [452, 222], [465, 235]]}\n"
+           "{\"action\": \"paint\", \"tool\": \"outer\", \"radius\": 30, \"points\": [[660, 280], [660, 380], [650, 460], [600, 560], [720, 560]]}\n"
+           "{\"action\": \"screenshot\", \"path\": \"" + p + "-painted.png\", \"ui\": false}\n"
+           "{\"action\": \"drag\", \"index\": 3, \"to\": [470, 110]}\n"
+           "{\"action\": \"set-time\", \"t\": 1}\n"
+           "{\"action\": \"wait-until-time\", \"t\": 1}\n"
+           "{\"action\": \"screenshot\", \"path\": \"" + p + "-lifted.png\", \"ui\": false}\n"
+           "{\"action\": \"screenshot\", \"path\": \"" + p + "-lifted-ui.png\", \"ui\": true}\n"
+           "{\"action\": \"export\", \"path\": \"" + p + ".ply\"}\n"
+           "{\"action\": \"save-scene\", \"path\": \"" + p + ".json\"}\n";
+}
+
+}  // namespace
+
+TEST_CASE("vfsd-desktop: a first edit on the armadillo lifts its hand rigidly, the body stays", "[armadillo]") {
+    const std::string mesh = std::string(VFSD_SOURCE_DIR) + "/assets/cgal/armadillo.off";
+    if (!std::filesystem::exists(mesh))
+        FAIL(mesh << " is absent: run scripts/get-cgal-meshes (scripts/test does) to fetch CGAL's meshes");
+    Scratch s;
+    const std::string p = s.file("armadillo");
+    INFO("log: " << s.file("armadillo.log"));
+    REQUIRE(run_script(s, "armadillo", armadillo_script(mesh, p), "--size 1280x800 --backend cpu") == 0);
+
+    const TriangleMesh before = load_mesh(mesh), after = load_mesh(p + ".ply");
+    REQUIRE(after.vertex_count() == before.vertex_count());
+    const PreparedScene scene = prepare_scene(load_scene(p + ".json"));
+    const std::vector<double>& sv = scene.region.s;
+    REQUIRE(sv.size() == before.vertex_count());
+    const double diagonal = bounding_box(before.positions).diagonal();
+
+    // Volume kept (sec. 4), the body (s = 1) exactly where it was, the hand (s = 0) moved rigidly.
+    const double v0 = signed_volume(before.positions, before.triangles);
+    const double volume_error = 100.0 * std::abs(signed_volume(after.positions, after.triangles) - v0) / std::abs(v0);
+    std::vector<Vec3> hand_from, hand_to;
+    double body_moved = 0.0, hand_lift = 0.0;
+    for (std::size_t v = 0; v < sv.size(); ++v) {
+        if (sv[v] >= 1.0) body_moved = std::max(body_moved, glm::length(after.positions[v] - before.positions[v]));
+        if (sv[v] <= 0.0) {
+            hand_from.push_back(before.positions[v]);
+            hand_to.push_back(after.positions[v]);
+            hand_lift += (after.positions[v].y - before.positions[v].y);
+        }
+    }
+    REQUIRE(hand_from.size() > 50);
+    hand_lift /= double(hand_from.size());
+    const RigidFit fit = fit_rigid(hand_from, hand_to);
+    const std::size_t folds = count_flipped_triangles(before.positions, after.positions, before.triangles);
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "armadillo first edit (desktop): volume error %.4f %%, hand lifted %.3f diagonals, hand rigid "
+                  "residual %.2e diagonals (RMS), body moved at most %.2e diagonals, folded triangles %zu",
+                  volume_error, hand_lift / diagonal, fit.rms_residual / diagonal, body_moved / diagonal, folds);
+    std::printf("%s\n", line);
+    CHECK(volume_error <= 0.5);
+    CHECK(hand_lift > 0.05 * diagonal);  // the drag went up the screen, y is up
+    CHECK(fit.rms_residual <= 1e-3 * diagonal);
+    CHECK(body_moved <= 1e-7 * diagonal);  // to the exported file's float precision
+
+    // The figures of README's "First edit": VFSD_FIGURES_DIR=docs/figures.
+    if (const char* figures = std::getenv("VFSD_FIGURES_DIR")) {
+        for (const std::string name : {"open", "painted", "lifted"})
+            std::filesystem::copy_file(p + "-" + name + ".png",
+                                       std::string(figures) + "/armadillo-first-edit-" + name + ".png",
+                                       std::filesystem::copy_options::overwrite_existing);
+    }
 }

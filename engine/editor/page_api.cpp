@@ -163,6 +163,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
             {"mesh", s.mesh_name()},
             {"warnings", s.warnings()},
             {"message", tools.message},
+            {"hint", tools.hint},
             {"load_error", editor.load_error()},
             {"missing_mesh", s.missing_mesh()},
             {"status", editor.status()},

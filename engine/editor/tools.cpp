@@ -48,6 +48,7 @@ void ToolController::press_control_point(EditorSession& session, std::size_t ind
     active_ = Active::point;
     point_ = index;
     point_start_ = points[index];
+    curve_start_ = points;
 }
 
 bool ToolController::press(EditorSession& session, const Camera& camera, const Viewport& viewport, double x,
@@ -179,10 +180,76 @@ void ToolController::dab(EditorSession& session, const SurfaceHit& hit) {
     session.brush(hit.point, b);
 }
 
+// Where the dragged point goes. A control point moves on the plane through its
+// start facing the view (or along the chosen axis). The curve's end knot, dragged
+// free, lands on the surface under the pointer when there is one outside the
+// inner region (which moves with the end): one drag puts the end, where the inner
+// region's centre goes, onto or next to what it should reach; off the mesh it stays
+// on the view plane through its start.
+Vec3 ToolController::dragged_point_position(const EditorSession& session, const Camera& camera,
+                                            const Viewport& viewport, double x, double y) {
+    const CurveSpec& c = session.curve().curve;
+    const bool end_knot = !c.is_handle && *point_ + 1 == c.bezier.size();
+    if (end_knot && axis < 0) {
+        if (const auto hit = session.pick_surface(camera.ray(x, y, viewport))) {
+            const Triangle& t = session.triangles()[hit->point.triangle];
+            const std::vector<double>& s = session.s();
+            const Vec3& w = hit->point.barycentric;
+            // s = 0 in the inner region (eq. 16): it moves with the end, no place to land.
+            const double s_hit = s.size() == session.base_positions().size()
+                                     ? w[0] * s[t[0]] + w[1] * s[t[1]] + w[2] * s[t[2]]
+                                     : 1.0;
+            if (s_hit > 1e-9) {
+                hint = "curve end on the surface under the pointer";
+                return hit->position;
+            }
+        }
+        hint = "curve end on the view plane (over the mesh it lands on the surface)";
+    }
+    return drag_point(point_start_, x, y, camera, viewport, axis);
+}
+
+namespace {
+
+// The control points as they were, the last segment turned and scaled about its
+// first knot so that its end goes from where it was to `end`: the curve keeps its
+// shape, so one drag of the end makes a whole new path.
+std::vector<Vec3> end_segment_moved(std::vector<Vec3> b, const Vec3& end) {
+    const std::size_t n = b.size();
+    const Vec3 a = b[n - 4], from = b[n - 1] - a, to = end - a;
+    b[n - 1] = end;
+    const double lf = glm::length(from), lt = glm::length(to);
+    if (lf < 1e-12 || lt < 1e-12) return b;
+    const Vec3 u = from / lf, v = to / lt;
+    const Vec3 k = glm::cross(u, v);
+    const double sin_a = glm::length(k), cos_a = glm::dot(u, v);
+    for (std::size_t i = n - 3; i < n - 1; ++i) {
+        Vec3 p = b[i] - a;
+        if (sin_a > 1e-12) {  // Rodrigues about k
+            const Vec3 e = k / sin_a;
+            p = p * cos_a + glm::cross(e, p) * sin_a + e * glm::dot(e, p) * (1.0 - cos_a);
+        } else if (cos_a < 0.0) {
+            p = -p;
+        }
+        b[i] = a + (lt / lf) * p;
+    }
+    return b;
+}
+
+}  // namespace
+
 void ToolController::drag(EditorSession& session, const Camera& camera, const Viewport& viewport, double x, double y) {
     try {
         if (active_ == Active::point) {
-            session.move_control_point(*point_, drag_point(point_start_, x, y, camera, viewport, axis));
+            const Vec3 to = dragged_point_position(session, camera, viewport, x, y);
+            MotionSpec next = session.curve();
+            const std::vector<Vec3>& b = next.curve.bezier;
+            if (!next.curve.is_handle && b.size() >= 4 && *point_ + 1 == b.size() && curve_start_.size() == b.size()) {
+                next.curve.bezier = end_segment_moved(curve_start_, to);
+                session.set_curve(next);
+            } else {
+                session.move_control_point(*point_, to);
+            }
         } else if (active_ == Active::gizmo) {
             drag_gizmo(session, camera, viewport, x, y);
         } else if (active_ == Active::stroke) {
@@ -204,6 +271,7 @@ void ToolController::release(EditorSession& session) {
     active_ = Active::none;
     point_.reset();
     gizmo_part_ = GizmoPart::none;
+    hint.clear();
 }
 
 void ToolController::close_loop() {

@@ -3,7 +3,10 @@
 // viewport. The shell (GLFW or a browser) forwards pointer events here and
 // navigates the camera itself when press() declines; scripts drive the same calls.
 //
-//   navigate  drag a control point (screen plane, or along one axis); in handle
+//   navigate  drag a control point (screen plane, or along one axis); the curve's
+//             end knot, dragged free over the mesh, lands on the surface under the
+//             pointer, its segment turned and scaled along (dragged_point_position,
+//             tools.cpp); in handle
 //             mode drag the target's gizmo (editor/handle_gizmo.h); elsewhere orbit
 //   geodesic  click a vertex: the geodesic level region (eq. 15) with g_min / g_max
 //   inner / outer / erase   paint labels with a geodesic brush (eq. 16 region)
@@ -36,6 +39,7 @@ public:
     double g_min = 0.1, g_max = 0.4;  // mesh units
     int axis = -1;                    // control point drags: -1 screen plane, 0/1/2 along x/y/z
     std::string message;              // the last error or hint for the user
+    std::string hint;                 // what the drag under way does (shown while it lasts)
 
     // Sizes the brush and geodesic thresholds to a newly opened mesh.
     void adapt_to(const EditorSession& session);
@@ -76,12 +80,15 @@ private:
     void place_handle(EditorSession& session, const Camera& camera, const SurfaceHit& hit);
     void drag_gizmo(EditorSession& session, const Camera& camera, const Viewport& viewport, double x, double y);
     void dab(EditorSession& session, const SurfaceHit& hit);
+    Vec3 dragged_point_position(const EditorSession& session, const Camera& camera, const Viewport& viewport,
+                                double x, double y);
 
     Active active_ = Active::none;
     std::optional<std::size_t> point_;
     GizmoPart gizmo_part_ = GizmoPart::none;
     glm::dvec2 gizmo_last_{0.0};
     Vec3 point_start_{0.0};
+    std::vector<Vec3> curve_start_;  // the control points when the drag began
     std::optional<Vec3> last_dab_;
     std::vector<SurfaceLoop> loops_;
     SurfaceLoop current_;
