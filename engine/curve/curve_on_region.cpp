@@ -6,10 +6,7 @@
 #include <glm/mat3x3.hpp>
 
 namespace vfsd {
-namespace {
 
-// The rotation by the smallest angle that takes unit a onto unit b (a half turn
-// about an axis across a when b = −a).
 glm::dmat3 turn_onto(const Vec3& a, const Vec3& b) {
     const double c = glm::dot(a, b);
     if (c < -1.0 + 1e-12) {
@@ -22,8 +19,6 @@ glm::dmat3 turn_onto(const Vec3& a, const Vec3& b) {
     const glm::dmat3 cross(0.0, k.z, -k.y, -k.z, 0.0, k.x, k.y, -k.x, 0.0);  // columns of [k]×
     return glm::dmat3(1.0) + cross + (cross * cross) / (1.0 + c);
 }
-
-}  // namespace
 
 Vec3 inner_region_axis(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                        const std::vector<double>& s) {

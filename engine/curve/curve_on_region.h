@@ -6,9 +6,15 @@
 
 #include <vector>
 
+#include <glm/mat3x3.hpp>
+
 #include "mesh/triangle_mesh.h"
 
 namespace vfsd {
+
+// The rotation by the smallest angle that takes unit a onto unit b (a half turn
+// about an axis across a when b = −a).
+glm::dmat3 turn_onto(const Vec3& a, const Vec3& b);
 
 // The way out of the mesh at the inner region (s ≤ 0): from the blend region's
 // centroid (0 < s < 1) to the inner region's, or, where the blend region surrounds

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "base/error.h"
+#include "curve/curve_on_region.h"
 #include "editor/picking.h"
 
 namespace vfsd::editor {
@@ -220,19 +221,8 @@ std::vector<Vec3> end_segment_moved(std::vector<Vec3> b, const Vec3& end) {
     b[n - 1] = end;
     const double lf = glm::length(from), lt = glm::length(to);
     if (lf < 1e-12 || lt < 1e-12) return b;
-    const Vec3 u = from / lf, v = to / lt;
-    const Vec3 k = glm::cross(u, v);
-    const double sin_a = glm::length(k), cos_a = glm::dot(u, v);
-    for (std::size_t i = n - 3; i < n - 1; ++i) {
-        Vec3 p = b[i] - a;
-        if (sin_a > 1e-12) {  // Rodrigues about k
-            const Vec3 e = k / sin_a;
-            p = p * cos_a + glm::cross(e, p) * sin_a + e * glm::dot(e, p) * (1.0 - cos_a);
-        } else if (cos_a < 0.0) {
-            p = -p;
-        }
-        b[i] = a + (lt / lf) * p;
-    }
+    const glm::dmat3 turn = turn_onto(from / lf, to / lt);
+    for (std::size_t i = n - 3; i < n - 1; ++i) b[i] = a + (lt / lf) * (turn * (b[i] - a));
     return b;
 }
 
