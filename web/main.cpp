@@ -131,6 +131,7 @@ public:
     void log(const std::string& line) override { std::printf("%s\n", line.c_str()); }
     void screenshot(const std::string&, bool) override { log("script: screenshots are the page's (canvas)"); }
     void autosaved() override { vfsd_page_autosaved(); }
+    bool keeps_image() const override { return true; }  // the canvas: preserveDrawingBuffer
 
     void context_lost();
     void context_restored();
@@ -143,6 +144,8 @@ private:
     void autosave_due();
 
     bool dirty_ = true;    // draw the next frame
+    bool timeouts_ = false;  // the main loop runs on timeouts, not animation frames
+    bool waiting_ = false;  // the page waits for a drawn frame (its frame call said so)
     bool paused_ = false;  // the main loop waits for wake()
     bool autosave_timer_ = false;
 
@@ -260,9 +263,14 @@ void App::autosave_due() {
 
 void App::frame() {
     if (lost_) return pause();  // context_restored() wakes it
-    const bool draw = dirty_ || editor_->busy();
+    bool draw = dirty_;
     try {
+        // While the deformation runs the pacer decides (a costly draw is skipped in
+        // some frames); otherwise a frame draws when something changed or the page
+        // waits for a frame.
+        const bool busy = editor_->busy();
         editor_->advance();
+        draw = draw || (busy ? editor_->draw_due() : waiting_);
         if (draw) {
             view_.wireframe = editor_->settings().wireframe;
             view_.draw(editor_->session(), editor_->camera(), viewport());
@@ -273,9 +281,14 @@ void App::frame() {
     }
     if (draw) {
         dirty_ = false;  // a command the page runs in its frame sets it again
-        if (vfsd_page_frame(editor::overlay_json(editor_->overlay(editor_->pointer())).dump().c_str())) dirty_ = true;
+        waiting_ = vfsd_page_frame(editor::overlay_json(editor_->overlay(editor_->pointer())).dump().c_str());
     }
-    if (!dirty_ && !editor_->busy()) pause();
+    // While costly draws are skipped, frames that only integrate need not wait for the display.
+    const bool timeouts = editor_->busy() && editor_->draws_costly();
+    if (timeouts != timeouts_)
+        emscripten_set_main_loop_timing(timeouts ? EM_TIMING_SETTIMEOUT : EM_TIMING_RAF, timeouts ? 0 : 1);
+    timeouts_ = timeouts;
+    if (!dirty_ && !waiting_ && !editor_->busy()) pause();
 }
 
 void App::context_lost() {

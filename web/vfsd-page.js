@@ -306,6 +306,7 @@
     'redo': { cmd: 'redo' }, 'add-segment': { cmd: 'add-segment' }, 'remove-segment': { cmd: 'remove-segment' },
     'close-loop': { cmd: 'close-loop' }, 'clear-loops': { cmd: 'clear-loops' }, 'new-region': { cmd: 'new-region' },
     'view-frame': { cmd: 'view', name: 'frame' }, 'view-front': { cmd: 'view', name: 'front' },
+    'view-back': { cmd: 'view', name: 'back' },
     'view-right': { cmd: 'view', name: 'right' }, 'view-top': { cmd: 'view', name: 'top' },
     'view-iso': { cmd: 'view', name: 'iso' },
   };

@@ -22,7 +22,8 @@ Editor::Editor(Shell& shell, DeformationFactory gpu, const std::string& gpu_reas
     : shell_(shell),
       options_(options),
       session_(std::make_unique<EditorSession>(std::move(gpu), gpu_reason)),
-      autosave_(options.autosave_directory, options.autosave_seconds) {
+      autosave_(options.autosave_directory, options.autosave_seconds),
+      pacer_(options.step_budget_ms, options.max_frame_ms) {
     settings_.force_cpu = options.force_cpu;
 }
 
@@ -161,14 +162,36 @@ void Editor::advance() {
         script_->run_frame(context());
         if (script_->done()) log(script_->failed() ? "script failed: " + script_->error() : "script: done");
     }
-    // Integrate toward the target within the frame's budget, timed as a whole:
-    // update() ends with the stats' read-back, so the GPU's work is included.
-    using Clock = std::chrono::steady_clock;
-    const int budget = std::clamp(int(options_.step_budget_ms / std::max(ms_per_step_, 0.05)), 1, 250);
-    const Clock::time_point start = Clock::now();
-    const int taken = session_->update(budget);
-    if (taken > 0) ms_per_step_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count() / taken;
+    const auto now = [] {
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    };
+    const FramePacer::Plan plan = pacer_.plan(now(), session_->moving(), shell_.keeps_image());
+    integrate_for(plan.integrate_ms);
+    draw_due_ = plan.draw || !session_->moving();  // the last step is always drawn
+    pacer_.integrated(now(), draw_due_);
     if (autosave_.maybe_save(*session_)) shell_.autosaved();
+}
+
+// Integrates toward the target for about `budget_ms`. A run starts with one step
+// (the first of a new deformation prepares it too, which no earlier rate
+// predicts); the rest of the frame is filled at the rate measured so far, so no
+// frame takes much longer than the budget plus one step. Steps are the same
+// whatever their grouping. update() ends with the stats' read-back, so the GPU's
+// work is in the time.
+void Editor::integrate_for(double budget_ms) {
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point start = Clock::now();
+    const auto elapsed = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); };
+    const auto steps_left = [&](double ms) { return int((budget_ms - ms) / std::max(ms_per_step_, 0.01)); };
+    int chunk = moving_ ? std::clamp(steps_left(0.0), 1, 250) : 1, taken = 0;
+    while (chunk > 0) {
+        const int done = session_->update(chunk);
+        taken += done;
+        if (taken > 0) ms_per_step_ = elapsed() / taken;
+        if (done < chunk) break;  // at the target, or stopped
+        chunk = std::min(steps_left(elapsed()), 250 - taken);
+    }
+    moving_ = taken > 0;
 }
 
 void Editor::restart_deformation() {

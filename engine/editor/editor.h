@@ -18,6 +18,7 @@
 #include "editor/autosave.h"
 #include "view/camera.h"
 #include "editor/commands.h"
+#include "editor/frame_pacer.h"
 #include "editor/handle_gizmo.h"
 #include "editor/script.h"
 #include "editor/session.h"
@@ -39,6 +40,8 @@ public:
     virtual void simulate_crash() { throw InputError("this editor cannot simulate a crash"); }
     virtual void point_at(double, double) {}
     virtual void log_frame_times(int) {}
+    // The view keeps its last image through a frame that does not draw (the page's canvas).
+    virtual bool keeps_image() const { return false; }
 };
 
 // What the shells paint over the scene, in viewport pixels; only points in front
@@ -61,8 +64,10 @@ struct Overlay {
 struct EditorOptions {
     std::string autosave_directory;
     double autosave_seconds = 10.0;
-    // Per frame the deformation may take about this long, so the shell stays responsive.
+    // Per frame the deformation may take about this long, so the shell stays responsive;
+    // where drawing is costly and skipped in some frames (FramePacer), up to max_frame_ms.
     double step_budget_ms = 15.0;
+    double max_frame_ms = 60.0;
     bool force_cpu = false;  // the "force CPU" setting at start
 };
 
@@ -119,6 +124,11 @@ public:
     // The frame's work before drawing: the script's actions, the deformation's
     // steps toward the target within the step budget, the autosave.
     void advance();
+    // Whether the frame just advanced should draw: always, unless the deformation
+    // runs, drawing is costly and the shell keeps its image (FramePacer).
+    bool draw_due() const { return draw_due_; }
+    // Drawing costs more than a 60 Hz frame (the page then runs its loop on timeouts while the deformation runs).
+    bool draws_costly() const { return pacer_.draws_costly(); }
     // What to paint over the scene; `pointer` hovers over the view (none: over a panel or outside).
     Overlay overlay(std::optional<glm::dvec2> pointer) const;
     // Frames must follow each other: the deformation moves or a script runs.
@@ -141,6 +151,7 @@ public:
 
 private:
     CommandContext context();
+    void integrate_for(double budget_ms);
 
     Shell& shell_;
     EditorOptions options_;
@@ -150,7 +161,10 @@ private:
     EditorSettings settings_;
     Autosave autosave_;
     std::unique_ptr<ScriptRunner> script_;
-    double ms_per_step_ = 0.0;
+    double ms_per_step_ = 0.0;  // the integration's time per step, measured over frames
+    bool moving_ = false;       // the last frame integrated
+    FramePacer pacer_;
+    bool draw_due_ = true;
     std::string load_error_, status_;
 
     enum class Drag { none, tool, orbit, pan } drag_ = Drag::none;

@@ -72,3 +72,22 @@ export function check(condition, message) {
   if (!condition) throw new Error('check failed: ' + message);
   console.log('  ok: ' + message);
 }
+
+// CPU seconds so far of the browser started with `userData` and all its descendants.
+export function cpuSeconds(userData) {
+  const procs = fs.readdirSync('/proc').filter((d) => /^\d+$/.test(d)).map((pid) => {
+    try {
+      const stat = fs.readFileSync(`/proc/${pid}/stat`, 'utf8');
+      const f = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+      const cmd = fs.readFileSync(`/proc/${pid}/cmdline`, 'utf8');
+      return { pid, ppid: f[1], cpu: (Number(f[11]) + Number(f[12])) / 100 /* USER_HZ */, root: cmd.includes(userData) };
+    } catch { return null; }
+  }).filter(Boolean);
+  const mine = new Set(procs.filter((p) => p.root).map((p) => p.pid));
+  for (let grew = true; grew;) {
+    grew = false;
+    for (const p of procs) if (!mine.has(p.pid) && mine.has(p.ppid)) { mine.add(p.pid); grew = true; }
+  }
+  return procs.filter((p) => mine.has(p.pid)).reduce((sum, p) => sum + p.cpu, 0);
+}
+

@@ -4,30 +4,9 @@
 //   VFSD_WEB_SITE=build/web/site node web/tests/idle.mjs [SECONDS]
 // Frames are counted by wrapping the engine's per-frame call to the page
 // (Module.vfsdFrame), so the figure means the same for any version of the page.
-import fs from 'node:fs';
-import { openPage } from './harness.mjs';
+import { openPage, cpuSeconds } from './harness.mjs';
 
 const seconds = Number(process.argv[2] || 5);
-const tick = 100;  // clock ticks per second of /proc/PID/stat (USER_HZ)
-
-// CPU seconds so far of the browser started with `userData` and all its descendants.
-function cpuSeconds(userData) {
-  const procs = fs.readdirSync('/proc').filter((d) => /^\d+$/.test(d)).map((pid) => {
-    try {
-      const stat = fs.readFileSync(`/proc/${pid}/stat`, 'utf8');
-      const f = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
-      const cmd = fs.readFileSync(`/proc/${pid}/cmdline`, 'utf8');
-      return { pid, ppid: f[1], cpu: (Number(f[11]) + Number(f[12])) / tick, root: cmd.includes(userData) };
-    } catch { return null; }
-  }).filter(Boolean);
-  const mine = new Set(procs.filter((p) => p.root).map((p) => p.pid));
-  for (let grew = true; grew;) {
-    grew = false;
-    for (const p of procs) if (!mine.has(p.pid) && mine.has(p.ppid)) { mine.add(p.pid); grew = true; }
-  }
-  return procs.filter((p) => mine.has(p.pid)).reduce((sum, p) => sum + p.cpu, 0);
-}
-
 const { page, close, userData } = await openPage('', { width: 1400, height: 900 });
 try {
   await page.evaluate(() => {
