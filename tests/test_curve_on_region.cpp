@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/matrix.hpp>
 
 #include "curve/curve_on_region.h"
 #include "mesh/builtin_meshes.h"
@@ -79,4 +80,23 @@ TEST_CASE("without an inner region the curve stays; a point curve moves to the r
     const std::vector<Vec3> placed = curve_on_region(point, bar.mesh.positions, bar.normals, bar.s);
     for (const Vec3& p : placed) CHECK(glm::length(p - placed[0]) == 0.0);
     CHECK(placed[0].z > 2.5);
+}
+
+TEST_CASE("turn_onto: a proper rotation taking a onto b, for b anywhere, opposite a included", "[curve]") {
+    const std::vector<Vec3> directions = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.3, -0.5, 0.81}, {-0.7, 0.1, 0.2}};
+    for (const Vec3& d : directions) {
+        const Vec3 a = glm::normalize(d);
+        const Vec3 near_opposite = glm::normalize(-a + Vec3(1e-13, -2e-13, 0.5e-13));
+        const Vec3 near = glm::normalize(a + Vec3(0, 1e-9, 0)), other = glm::normalize(Vec3(0.2, 0.9, -0.4));
+        for (const Vec3& b : {a, -a, near_opposite, near, other}) {
+            const glm::dmat3 r = turn_onto(a, b);
+            INFO("a = (" << a.x << ", " << a.y << ", " << a.z << "), b = (" << b.x << ", " << b.y << ", " << b.z
+                         << ")");
+            CHECK(glm::length(r * a - b) < 1e-9);
+            CHECK(glm::determinant(r) == Approx(1.0).margin(1e-9));  // a turn, never a mirror image
+            const glm::dmat3 identity = glm::transpose(r) * r;
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) CHECK(identity[i][j] == Approx(i == j ? 1.0 : 0.0).margin(1e-9));
+        }
+    }
 }

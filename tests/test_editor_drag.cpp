@@ -1,7 +1,8 @@
 // Dragging the curve's end knot: over the mesh (outside the inner region) it lands
 // on the surface point under the pointer; off the mesh it stays on the plane
 // through its start facing the view; an axis drag ignores the surface; the last
-// segment is turned and scaled along, keeping its shape; the drag is one undo step.
+// segment is turned and scaled along, keeping its shape (its handedness too, when
+// dragged straight back); the drag is one undo step.
 
 #include <catch2/catch.hpp>
 
@@ -146,4 +147,26 @@ TEST_CASE("End knot drag: the inner region, which moves with the end, is no plac
     const Vec3 start = d.session.control_points()[d.end];
     d.drag_end_to(*over_inner);
     CHECK(glm::dot(d.session.control_points()[d.end] - start, d.camera.forward()) == Approx(0.0).margin(1e-9));
+}
+
+TEST_CASE("End knot drag: dragged straight back through its start, the segment is turned, not mirrored",
+          "[editor][drag]") {
+    EndDrag d;
+    const std::size_t a = d.end - 3;
+    // A segment out of one plane, so that a mirror image differs from every turn of it.
+    const double r = 0.1 * d.session.diagonal();
+    d.session.move_control_point(d.end - 1, d.session.control_points()[d.end - 1] + r * d.camera.forward());
+    const std::vector<Vec3> before = d.session.control_points();
+    const auto handedness = [&](const std::vector<Vec3>& p) {
+        return glm::dot(glm::cross(p[a + 1] - p[a], p[a + 2] - p[a]), p[a + 3] - p[a]);
+    };
+    REQUIRE(std::abs(handedness(before)) > 1e-3 * r * r * r);
+    // The pointer goes to where the end's mirror image through the segment's start shows.
+    d.drag_end_to(pixel(d.camera, 2.0 * before[a] - before[d.end]));
+    const std::vector<Vec3> after = d.session.control_points();
+    CHECK(glm::dot(after[d.end] - after[a], before[d.end] - before[a]) < 0.0);  // it went back
+    CHECK(after[a] == before[a]);
+    // A turn and a scale keep the segment's handedness; a mirror image reverses it.
+    const double scale = glm::length(after[d.end] - after[a]) / glm::length(before[d.end] - before[a]);
+    CHECK(handedness(after) == Approx(scale * scale * scale * handedness(before)).epsilon(1e-6));
 }

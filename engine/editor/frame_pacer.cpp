@@ -5,9 +5,9 @@
 namespace vfsd::editor {
 
 namespace {
-constexpr double kCheapDrawMs = 20.0;  // fits in a 60 Hz frame, with its wait for the display
+constexpr double kCheapDrawMs = 20.0;      // fits in a 60 Hz frame, with its wait for the display
 constexpr double kLongestDrawMs = 1000.0;  // beyond: a pause, not a draw
-constexpr double kStepsPerDraw = 3.0;  // time on steps per time drawing, when a draw is costly
+constexpr double kStepsPerDraw = 3.0;      // time on steps per time drawing, when a draw is costly
 }  // namespace
 
 FramePacer::Plan FramePacer::plan(double now, bool running, bool keeps_image) {

@@ -12,10 +12,11 @@ namespace vfsd::editor {
 
 class FramePacer {
 public:
-    FramePacer(double step_budget_ms, double max_frame_ms) : step_budget_ms_(step_budget_ms), max_frame_ms_(max_frame_ms) {}
+    FramePacer(double step_budget_ms, double max_frame_ms)
+        : step_budget_ms_(step_budget_ms), max_frame_ms_(max_frame_ms) {}
 
     struct Plan {
-        bool draw = true;          // draw this frame
+        bool draw = true;           // draw this frame
         double integrate_ms = 0.0;  // integrate for about this long first
     };
     // The frame starting at `now`: whether the deformation runs, whether the shell
@@ -34,7 +35,7 @@ private:
     double integrated_at_ = 0.0;  // when the last frame's steps ended
     bool last_drew_ = false;
     bool last_running_ = false;
-    double last_draw_ = 0.0;      // when the last drawn frame's steps ended
+    double last_draw_ = 0.0;  // when the last drawn frame's steps ended
 };
 
 }  // namespace vfsd::editor
