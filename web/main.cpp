@@ -132,6 +132,7 @@ public:
     void screenshot(const std::string&, bool) override { log("script: screenshots are the page's (canvas)"); }
     void autosaved() override { vfsd_page_autosaved(); }
     bool keeps_image() const override { return true; }  // the canvas: preserveDrawingBuffer
+    bool renderer_busy() const override { return fence_ != nullptr; }
 
     void context_lost();
     void context_restored();
@@ -142,8 +143,12 @@ private:
     void pause();
     void resume();
     void autosave_due();
+    void fence_draw();
+    void poll_fence();
 
     bool dirty_ = true;    // draw the next frame
+    GLsync fence_ = nullptr;  // set after a draw while the deformation runs, until the GPU finished it
+    double fenced_at_ = 0.0;
     bool timeouts_ = false;  // the main loop runs on timeouts, not animation frames
     bool waiting_ = false;  // the page waits for a drawn frame (its frame call said so)
     bool paused_ = false;  // the main loop waits for wake()
@@ -263,6 +268,7 @@ void App::autosave_due() {
 
 void App::frame() {
     if (lost_) return pause();  // context_restored() wakes it
+    poll_fence();
     bool draw = dirty_;
     try {
         // While the deformation runs the pacer decides (a costly draw is skipped in
@@ -274,6 +280,7 @@ void App::frame() {
         if (draw) {
             view_.wireframe = editor_->settings().wireframe;
             view_.draw(editor_->session(), editor_->camera(), viewport());
+            if (editor_->busy()) fence_draw();
         }
     } catch (const std::exception& e) {
         editor_->set_status(e.what());
@@ -291,6 +298,26 @@ void App::frame() {
     if (!dirty_ && !waiting_ && !editor_->busy()) pause();
 }
 
+// WebGL runs the draw in the GPU process; a fence tells when it is done, without
+// waiting (glGetError or a read-back would wait), and that time is the draw's cost.
+void App::fence_draw() {
+    if (fence_) return;
+    fence_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    glFlush();
+    fenced_at_ = emscripten_get_now();
+}
+
+void App::poll_fence() {
+    if (!fence_) return;
+    GLint status = GL_UNSIGNALED;
+    glGetSynciv(fence_, GL_SYNC_STATUS, 1, nullptr, &status);
+    const double ms = emscripten_get_now() - fenced_at_;
+    if (status != GL_SIGNALED && ms < 1000.0) return;
+    editor_->renderer_finished(ms);
+    glDeleteSync(fence_);
+    fence_ = nullptr;
+}
+
 void App::context_lost() {
     // Nothing on the GPU survives; the mesh, region and curve live on the CPU.
     lost_ = true;
@@ -302,6 +329,7 @@ void App::context_restored() {
     // New GL objects for everything; the deformation restarts from the CPU state
     // and integrates back to the target time.
     view_.reset();
+    fence_ = nullptr;  // it went with the lost context
     editor_->restart_deformation();
     init_gl();
     lost_ = false;

@@ -165,7 +165,7 @@ void Editor::advance() {
     const auto now = [] {
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
     };
-    const FramePacer::Plan plan = pacer_.plan(now(), session_->moving(), shell_.keeps_image());
+    const FramePacer::Plan plan = pacer_.plan(now(), session_->moving(), shell_.keeps_image(), shell_.renderer_busy());
     integrate_for(plan.integrate_ms);
     draw_due_ = plan.draw || !session_->moving();  // the last step is always drawn
     pacer_.integrated(now(), draw_due_);

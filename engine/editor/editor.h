@@ -42,6 +42,9 @@ public:
     virtual void log_frame_times(int) {}
     // The view keeps its last image through a frame that does not draw (the page's canvas).
     virtual bool keeps_image() const { return false; }
+    // The renderer has not finished the last draw yet (the page's GL fence; it then
+    // reports the draw's time through Editor::renderer_finished).
+    virtual bool renderer_busy() const { return false; }
 };
 
 // What the shells paint over the scene, in viewport pixels; only points in front
@@ -129,6 +132,7 @@ public:
     bool draw_due() const { return draw_due_; }
     // Drawing costs more than a 60 Hz frame (the page then runs its loop on timeouts while the deformation runs).
     bool draws_costly() const { return pacer_.draws_costly(); }
+    void renderer_finished(double ms) { pacer_.renderer_finished(ms); }
     // What to paint over the scene; `pointer` hovers over the view (none: over a panel or outside).
     Overlay overlay(std::optional<glm::dvec2> pointer) const;
     // Frames must follow each other: the deformation moves or a script runs.

@@ -24,7 +24,7 @@ void SessionView::draw(const EditorSession& session, Camera& camera, const Viewp
     const std::optional<DeviceVertices> on_gpu =
         session.deformation() ? session.deformation()->device_vertices() : std::nullopt;
     if (!on_gpu && drawn_revision_ != session.revision()) {
-        cpu_vertices_ = render::make_vertex_texture(session.positions(), session.s());
+        render::update_vertex_texture(cpu_vertices_, session.positions(), session.s());
         drawn_revision_ = session.revision();
     }
     if (on_gpu) drawn_revision_ = 0;

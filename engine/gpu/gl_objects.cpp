@@ -54,6 +54,12 @@ void check_gl(const char* what) {
     if (e != GL_NO_ERROR) throw GpuError(std::string(what) + ": " + gl_error_name(e));
 }
 
+void check_gl_in_frame([[maybe_unused]] const char* what) {
+#ifndef __EMSCRIPTEN__
+    check_gl(what);
+#endif
+}
+
 namespace detail {
 void delete_texture(GLuint id) { glDeleteTextures(1, &id); }
 void delete_framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
@@ -82,7 +88,7 @@ void Texture::upload(const float* rgba) {
     glBindTexture(GL_TEXTURE_2D, id());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, rgba);
-    check_gl("uploading a float texture");
+    check_gl_in_frame("uploading a float texture");  // the CPU path's positions, every drawn frame
 }
 
 void Texture::upload(const std::int32_t* data) {
@@ -200,6 +206,17 @@ Buffer::Buffer(GLenum target, const void* data, std::size_t bytes) {
     glBindBuffer(target, id);
     glBufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_STATIC_DRAW);
     check_gl("creating a buffer");
+}
+
+void Buffer::update(GLenum target, const void* data, std::size_t bytes) {
+    if (id() == 0) {
+        GLuint id = 0;
+        glGenBuffers(1, &id);
+        name_.reset(id);
+    }
+    glBindBuffer(target, id());
+    glBufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
+    check_gl_in_frame("updating a buffer");
 }
 
 VertexArray::VertexArray() {

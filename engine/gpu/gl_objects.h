@@ -13,6 +13,11 @@ namespace vfsd::gpu {
 
 // Throws GpuError naming `what` and the GL error code if glGetError reports one.
 void check_gl(const char* what);
+// The same for the calls of a drawn frame, natively (the desktop, the tests). In
+// WebGL glGetError is a synchronous round trip that waits for the GPU process to
+// finish what the frame drew (SwiftShader: 60-110 ms for the armadillo), so the
+// page does not ask every frame; set-up and read-backs keep check_gl.
+void check_gl_in_frame(const char* what);
 
 // Owns one GL name and the function that deletes it.
 template <void (*Delete)(GLuint)>
@@ -123,6 +128,8 @@ class Buffer {
 public:
     Buffer() = default;
     Buffer(GLenum target, const void* data, std::size_t bytes);
+    // New contents, in the same buffer (a drawn frame's: checked by check_gl_in_frame).
+    void update(GLenum target, const void* data, std::size_t bytes);
     GLuint id() const { return name_.id(); }
 
 private:

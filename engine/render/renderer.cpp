@@ -17,6 +17,7 @@ namespace vfsd::render {
 
 using gpu::Buffer;
 using gpu::check_gl;
+using gpu::check_gl_in_frame;
 using gpu::Framebuffer;
 using gpu::Texture;
 using gpu::TextureLayout;
@@ -137,9 +138,8 @@ void Renderer::draw(const Texture& vertex_texture, const float view[16], const f
         std::vector<Triangle> picked;
         for (const std::uint32_t t : *options.highlight)
             if (t < triangles_.size()) picked.push_back(triangles_[t]);
-        const Buffer indices(GL_ELEMENT_ARRAY_BUFFER, picked.data(), picked.size() * sizeof(Triangle));
+        highlight_indices_.update(GL_ELEMENT_ARRAY_BUFFER, picked.data(), picked.size() * sizeof(Triangle));
         mesh_program_.set("u_wire", 2);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices.id());
         glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * picked.size()), GL_UNSIGNED_INT, nullptr);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, triangle_indices_.id());
     }
@@ -172,10 +172,17 @@ void Renderer::draw(const Texture& vertex_texture, const float view[16], const f
         glDrawElements(GL_TRIANGLES, sphere_index_count_, GL_UNSIGNED_INT, nullptr);
     }
     glBindVertexArray(0);
-    check_gl("drawing the scene");
+    check_gl_in_frame("drawing the scene");
 }
 
 Texture make_vertex_texture(const std::vector<Vec3>& positions, const std::vector<double>& s) {
+    std::optional<Texture> texture;
+    update_vertex_texture(texture, positions, s);
+    return std::move(*texture);
+}
+
+void update_vertex_texture(std::optional<Texture>& texture, const std::vector<Vec3>& positions,
+                           const std::vector<double>& s) {
     const TextureLayout layout = TextureLayout::for_count(positions.size(), gpu::query_capabilities().max_texture_size);
     std::vector<float> data(layout.texels() * 4, 0.0f);
     for (std::size_t v = 0; v < positions.size(); ++v) {
@@ -184,9 +191,9 @@ Texture make_vertex_texture(const std::vector<Vec3>& positions, const std::vecto
         data[4 * v + 2] = float(positions[v].z);
         data[4 * v + 3] = v < s.size() ? float(s[v]) : 0.0f;
     }
-    Texture texture(GL_RGBA32F, layout.width, layout.height);
-    texture.upload(data.data());
-    return texture;
+    if (!texture || texture->width() != layout.width || texture->height() != layout.height)
+        texture.emplace(GL_RGBA32F, layout.width, layout.height);
+    texture->upload(data.data());
 }
 
 std::vector<std::uint8_t> render_image(const Renderer& renderer, const Texture& vertex_texture, const Camera& camera,

@@ -6,6 +6,7 @@
 // from a vertex texture (xyz + s) by gl_VertexID, so display needs no read-back.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,7 @@ private:
     std::vector<Triangle> triangles_;
     gpu::Program mesh_program_, solid_program_;
     gpu::Buffer triangle_indices_, edge_indices_, curve_points_, sphere_points_, sphere_indices_;
+    mutable gpu::Buffer highlight_indices_;  // the folded triangles, refilled by each draw that shows them
     gpu::VertexArray mesh_vao_, curve_vao_, sphere_vao_;
     GLsizei triangle_index_count_ = 0, edge_index_count_ = 0, curve_point_count_ = 0, sphere_index_count_ = 0;
 };
@@ -58,6 +60,10 @@ private:
 // A vertex texture (xyz + s, RGBA32F, TextureLayout) holding given positions: how
 // the CPU path's result is drawn by the same renderer.
 gpu::Texture make_vertex_texture(const std::vector<Vec3>& positions, const std::vector<double>& s);
+// The same into `texture`, reused while its size fits: a new GL texture every frame
+// costs a synchronous round trip in WebGL (the page's frames while a run plays).
+void update_vertex_texture(std::optional<gpu::Texture>& texture, const std::vector<Vec3>& positions,
+                           const std::vector<double>& s);
 
 // Renders off-screen at `width` x `height` (supersampled 2 x 2) and returns the
 // RGBA8 image, top row first (one counted read-back).
