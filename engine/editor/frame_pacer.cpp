@@ -26,7 +26,9 @@ FramePacer::Plan FramePacer::plan(double now, bool running, bool keeps_image, bo
     return {draw, draw ? std::max(frame - draw_ms_, 0.0) : frame};
 }
 
-void FramePacer::renderer_finished(double ms) { renderer_ms_ = smoothed(renderer_ms_, std::clamp(ms, 0.0, kLongestDrawMs)); }
+void FramePacer::renderer_finished(double ms) {
+    renderer_ms_ = smoothed(renderer_ms_, std::clamp(ms, 0.0, kLongestDrawMs));
+}
 
 double FramePacer::draw_ms() const { return std::max(draw_ms_, renderer_ms_); }
 

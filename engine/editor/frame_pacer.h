@@ -8,7 +8,8 @@
 // drawing takes about a quarter of the run and no frame is much longer than
 // max_frame_ms. A draw's cost is what the frame after it waited, or, where the
 // shell can tell (the page, by a GL fence), how long the renderer took to finish
-// it; while the renderer is still busy with the last draw no costly draw is added. Times are milliseconds on any steady clock, given by the caller.
+// it; while the renderer is still busy with the last draw no costly draw is added. Times are milliseconds on any steady
+// clock, given by the caller.
 
 namespace vfsd::editor {
 
