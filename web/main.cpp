@@ -252,6 +252,9 @@ void App::resume() {
 // Nothing to draw until wake(); a due autosave wakes the loop once its interval passed.
 void App::pause() {
     paused_ = true;
+    // A draw still unfinished now would be timed across the pause: it is not a draw's cost.
+    if (fence_) glDeleteSync(fence_);
+    fence_ = nullptr;
     emscripten_pause_main_loop();
     const editor::Autosave& autosave = editor_->autosave();
     if (autosave_timer_ || autosave.offer() || !autosave.behind(editor_->session())) return;

@@ -8,8 +8,8 @@
 // drawing takes about a quarter of the run and no frame is much longer than
 // max_frame_ms. A draw's cost is what the frame after it waited, or, where the
 // shell can tell (the page, by a GL fence), how long the renderer took to finish
-// it; while the renderer is still busy with the last draw no costly draw is added. Times are milliseconds on any steady
-// clock, given by the caller.
+// it; while the renderer is still busy with the last draw no costly draw is added.
+// Times are milliseconds on any steady clock, given by the caller.
 
 namespace vfsd::editor {
 
@@ -23,8 +23,8 @@ public:
         double integrate_ms = 0.0;  // integrate for about this long first
     };
     // The frame starting at `now`: whether the deformation runs, whether the shell
-    // keeps its last image when it does not draw.
-    // `renderer_busy`: the last draw is not finished yet (the shell's fence).
+    // keeps its last image when it does not draw, whether the renderer has not
+    // finished the last draw yet (the shell's fence).
     Plan plan(double now, bool running, bool keeps_image, bool renderer_busy = false);
     // The frame's steps ended at `now`; `drew`: the frame draws next.
     void integrated(double now, bool drew);

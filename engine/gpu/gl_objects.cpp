@@ -88,7 +88,9 @@ void Texture::upload(const float* rgba) {
     glBindTexture(GL_TEXTURE_2D, id());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, rgba);
-    check_gl_in_frame("uploading a float texture");  // the CPU path's positions, every drawn frame
+    // The CPU path's positions, every drawn frame; a set-up's upload (the GPU passes)
+    // is checked by the set-up's own check_gl in WebGL, as GL errors stay until read.
+    check_gl_in_frame("uploading a float texture");
 }
 
 void Texture::upload(const std::int32_t* data) {

@@ -90,4 +90,3 @@ export function cpuSeconds(userData) {
   }
   return procs.filter((p) => mine.has(p.pid)).reduce((sum, p) => sum + p.cpu, 0);
 }
-
