@@ -10,44 +10,10 @@
 namespace vfsd {
 namespace {
 
-// For each triangle, the triangles sharing one of its edges (any orientation).
-std::vector<std::vector<std::uint32_t>> edge_neighbours(const std::vector<Triangle>& triangles) {
-    struct Edge {
-        std::uint32_t a, b, triangle;
-    };
-    std::vector<Edge> edges;
-    edges.reserve(triangles.size() * 3);
-    for (std::uint32_t t = 0; t < triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
-            edges.push_back({std::min(a, b), std::max(a, b), t});
-        }
-    std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
-    std::vector<std::vector<std::uint32_t>> neighbours(triangles.size());
-    for (std::size_t i = 0; i < edges.size();) {
-        std::size_t j = i;
-        while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
-        for (std::size_t p = i; p < j; ++p)
-            for (std::size_t q = i; q < j; ++q)
-                if (p != q) neighbours[edges[p].triangle].push_back(edges[q].triangle);
-        i = j;
-    }
-    return neighbours;
-}
-
 Vec3 unit_normal(const std::vector<Vec3>& x, const Triangle& t) {
     const Vec3 n = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
     const double len = glm::length(n);
     return len > 0.0 ? n / len : Vec3(0.0);
-}
-
-// True when triangle t faces against the mean normal of its edge neighbours.
-bool faces_against_neighbours(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles,
-                              const std::vector<std::uint32_t>& neighbours, std::uint32_t t) {
-    if (neighbours.empty()) return false;
-    Vec3 mean(0.0);
-    for (std::uint32_t u : neighbours) mean += unit_normal(x, triangles[u]);
-    return glm::dot(unit_normal(x, triangles[t]), mean) < 0.0;
 }
 
 bool is_finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
@@ -69,15 +35,69 @@ bool is_closed_surface(const std::vector<Triangle>& triangles) {
     return !triangles.empty();
 }
 
+// For each triangle, the triangles sharing one of its edges (any orientation).
+TriangleNeighbours triangle_neighbours(const std::vector<Triangle>& triangles) {
+    struct Edge {
+        std::uint32_t a, b, triangle;
+    };
+    std::vector<Edge> edges;
+    edges.reserve(triangles.size() * 3);
+    for (std::uint32_t t = 0; t < triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
+            edges.push_back({std::min(a, b), std::max(a, b), t});
+        }
+    std::sort(edges.begin(), edges.end(),
+              [](const Edge& x, const Edge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    // Each edge shared by m triangles gives each of them m - 1 neighbours: counted, then filled.
+    TriangleNeighbours n;
+    n.offsets.assign(triangles.size() + 1, 0);
+    const auto for_each_pair = [&](auto&& visit) {
+        for (std::size_t i = 0; i < edges.size();) {
+            std::size_t j = i;
+            while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
+            for (std::size_t p = i; p < j; ++p)
+                for (std::size_t q = i; q < j; ++q)
+                    if (p != q) visit(edges[p].triangle, edges[q].triangle);
+            i = j;
+        }
+    };
+    for_each_pair([&](std::uint32_t t, std::uint32_t) { ++n.offsets[t + 1]; });
+    for (std::size_t t = 0; t < triangles.size(); ++t) n.offsets[t + 1] += n.offsets[t];
+    n.list.resize(n.offsets.back());
+    std::vector<std::uint32_t> filled(n.offsets.begin(), n.offsets.end() - 1);
+    for_each_pair([&](std::uint32_t t, std::uint32_t u) { n.list[filled[t]++] = u; });
+    return n;
+}
+
+std::vector<std::uint8_t> facing_against_neighbours(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles,
+                                                    const TriangleNeighbours& neighbours) {
+    std::vector<Vec3> normals(triangles.size());
+    for (std::size_t t = 0; t < triangles.size(); ++t) normals[t] = unit_normal(x, triangles[t]);
+    std::vector<std::uint8_t> against(triangles.size(), 0);
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const std::uint32_t begin = neighbours.offsets[t], end = neighbours.offsets[t + 1];
+        if (begin == end) continue;
+        Vec3 mean(0.0);
+        for (std::uint32_t k = begin; k < end; ++k) mean += normals[neighbours.list[k]];
+        against[t] = glm::dot(normals[t], mean) < 0.0;
+    }
+    return against;
+}
+
+std::vector<std::uint32_t> newly_facing_against(const std::vector<std::uint8_t>& before,
+                                                const std::vector<std::uint8_t>& after) {
+    std::vector<std::uint32_t> flipped;
+    for (std::uint32_t t = 0; t < after.size(); ++t)
+        if (after[t] && !before[t]) flipped.push_back(t);
+    return flipped;
+}
+
 std::vector<std::uint32_t> flipped_triangle_list(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
                                                  const std::vector<Triangle>& triangles) {
-    const auto neighbours = edge_neighbours(triangles);
-    std::vector<std::uint32_t> flipped;
-    for (std::uint32_t t = 0; t < triangles.size(); ++t)
-        if (faces_against_neighbours(after, triangles, neighbours[t], t) &&
-            !faces_against_neighbours(before, triangles, neighbours[t], t))
-            flipped.push_back(t);
-    return flipped;
+    const TriangleNeighbours neighbours = triangle_neighbours(triangles);
+    return newly_facing_against(facing_against_neighbours(before, triangles, neighbours),
+                                facing_against_neighbours(after, triangles, neighbours));
 }
 
 std::size_t count_flipped_triangles(const std::vector<Vec3>& before, const std::vector<Vec3>& after,

@@ -21,7 +21,7 @@ struct DeformationQuality {
     double volume_error_percent = 0.0;    // 100 |after − before| / |before|
     double volume_change_percent = 0.0;   // signed: 100 (after − before) / |before|
     double outer_max_displacement = 0.0;  // largest move of an outer vertex (s = 1)
-    double inner_rigid_residual = 0.0;    // RMS distance of inner vertices (s = 0) from their best rigid fit, / diagonal
+    double inner_rigid_residual = 0.0;  // RMS distance of inner vertices (s = 0) from their best rigid fit, / diagonal
     std::size_t inner_vertices = 0;
     std::size_t outer_vertices = 0;
     std::size_t flipped_triangles = 0;
@@ -38,6 +38,21 @@ bool is_closed_surface(const std::vector<Triangle>& triangles);
 // The indices of the triangles count_flipped_triangles counts.
 std::vector<std::uint32_t> flipped_triangle_list(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
                                                  const std::vector<Triangle>& triangles);
+
+// The same count in parts, for a caller that checks many deformed positions of one
+// mesh (an editor, every frame): the triangles' edge neighbours found once, and
+// which triangles already face against them in the positions before.
+struct TriangleNeighbours {
+    std::vector<std::uint32_t> offsets;  // triangle t's neighbours: list[offsets[t]] .. list[offsets[t + 1] - 1]
+    std::vector<std::uint32_t> list;
+};
+TriangleNeighbours triangle_neighbours(const std::vector<Triangle>& triangles);
+// 1 for each triangle whose normal points against the mean normal of its edge neighbours in x.
+std::vector<std::uint8_t> facing_against_neighbours(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles,
+                                                    const TriangleNeighbours& neighbours);
+// The triangles facing against their neighbours after but not before.
+std::vector<std::uint32_t> newly_facing_against(const std::vector<std::uint8_t>& before,
+                                                const std::vector<std::uint8_t>& after);
 
 // Where folded triangles lie on the mesh before the deformation: the centroid of
 // their corners and the range of s over them.

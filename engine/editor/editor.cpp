@@ -172,13 +172,17 @@ void Editor::advance() {
     if (autosave_.maybe_save(*session_)) shell_.autosaved();
 }
 
-// Integrates toward the target for about `budget_ms`. A run starts with one step
-// (the first of a new deformation prepares it too, which no earlier rate
-// predicts); the rest of the frame is filled at the rate measured so far, so no
-// frame takes much longer than the budget plus one step. Steps are the same
-// whatever their grouping. update() ends with the stats' read-back, so the GPU's
-// work is in the time.
+// Integrates toward the target for about `budget_ms`. A new deformation is
+// prepared in a frame of its own; a run starts with one step, which no earlier
+// rate predicts (the first also estimates ∇r at the start); the rest of the frame
+// is filled at the rate measured so far, so no frame takes much longer than the
+// budget plus one step. Steps are the same whatever their grouping. update() ends
+// with the stats' read-back, so the GPU's work is in the time.
 void Editor::integrate_for(double budget_ms) {
+    if (session_->prepare_run()) {
+        moving_ = false;
+        return;
+    }
     using Clock = std::chrono::steady_clock;
     const Clock::time_point start = Clock::now();
     const auto elapsed = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); };

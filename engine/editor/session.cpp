@@ -224,7 +224,7 @@ void EditorSession::replace_document(Document doc) {
     InnerMotion motion = build_motion(doc.scene.motion);
     doc_ = std::move(doc);
     motion_ = std::move(motion);
-    s_ = std::move(region.s);
+    region_ = std::move(region);
     region_warnings_ = std::move(region_warnings);
     history_.clear();
     region_gesture_ = curve_gesture_ = false;
@@ -232,6 +232,8 @@ void EditorSession::replace_document(Document doc) {
     if (!(diagonal_ > 0.0)) diagonal_ = 1.0;
     opened_positions_ = doc_.file.mesh.positions;
     opened_volume_ = signed_volume(opened_positions_, doc_.file.mesh.triangles);
+    neighbours_ = triangle_neighbours(doc_.file.mesh.triangles);
+    opened_against_ = facing_against_neighbours(opened_positions_, doc_.file.mesh.triangles, neighbours_);
     base_moved_stats();
     stats_.vertices = doc_.file.mesh.vertex_count();
     stats_.triangles = doc_.file.mesh.triangle_count();
@@ -266,7 +268,7 @@ void EditorSession::save_scene(const std::string& path, InputMesh input) const {
 void EditorSession::export_mesh(const std::string& path) const {
     TriangleMesh result = doc_.file.mesh;
     result.positions = positions();
-    result.scalar = s_;
+    result.scalar = region_.s;
     write_mesh_file(path, doc_.baked ? result : to_file_layout(doc_.file, result));
 }
 
@@ -297,7 +299,7 @@ RegionSpec EditorSession::region_spec() const {
 
 void EditorSession::region_changed() {
     std::vector<std::string> warnings;
-    s_ = build_region(region_spec(), doc_.file.mesh.positions, doc_.rings, warnings).s;
+    region_ = build_region(region_spec(), doc_.file.mesh.positions, doc_.rings, warnings);
     region_warnings_ = std::move(warnings);
     drop_deformation();
     changed(region_edited);
@@ -307,7 +309,7 @@ void EditorSession::region_changed() {
 void EditorSession::set_region(const RegionSource& next, const RegionEdit& paint, const std::string& label) {
     const RegionSource before = doc_.region;
     const MotionSpec motion_before = doc_.scene.motion;
-    const std::vector<double> s_before = s_;
+    const std::vector<double> s_before = region_.s;
     doc_.region = next;
     ::vfsd::apply_edit(doc_.paint, paint);
     try {
@@ -323,7 +325,7 @@ void EditorSession::set_region(const RegionSource& next, const RegionEdit& paint
         for (std::size_t v = 0; v < s.size(); ++v) in[v] = s[v] <= 0.0;
         return in;
     };
-    if (inner(s_) != inner(s_before)) follow_inner_region();
+    if (inner(region_.s) != inner(s_before)) follow_inner_region();
     if (region_gesture_) {
         accumulate(pending_region_.paint, paint);
         region_gesture_changed_ = true;
@@ -340,7 +342,7 @@ void EditorSession::follow_inner_region() {
     std::vector<Vec3> normals;
     vertex_normals(doc_.file.mesh.positions, doc_.rings, normals);
     MotionSpec next = doc_.scene.motion;
-    next.curve.bezier = curve_on_region(next.curve.bezier, doc_.file.mesh.positions, normals, s_);
+    next.curve.bezier = curve_on_region(next.curve.bezier, doc_.file.mesh.positions, normals, region_.s);
     if (next == doc_.scene.motion) return;
     doc_.scene.motion = next;
     curve_changed();
@@ -367,7 +369,7 @@ RegionSource EditorSession::clean_labels(RegionEdit& paint) const {
     RegionSource labels;
     labels.kind = RegionSource::Kind::labels;
     labels.band = region_band();
-    paint = diff_edit(RegionChannel::labels, labels_as_values(doc_.paint), std::vector<double>(s_.size(), 0.0));
+    paint = diff_edit(RegionChannel::labels, labels_as_values(doc_.paint), std::vector<double>(region_.s.size(), 0.0));
     return labels;
 }
 
@@ -423,7 +425,7 @@ void EditorSession::brush(const SurfacePoint& centre, const BrushSettings& b) {
     // Painting s starts from the field on screen; painting labels starts clean, so
     // no label the user did not paint hides in the region (only the band is kept).
     if (b.tool == BrushTool::paint_s && next.kind != RegionSource::Kind::field) {
-        total = diff_edit(RegionChannel::s, paint.s, s_);
+        total = diff_edit(RegionChannel::s, paint.s, region_.s);
         next.kind = RegionSource::Kind::field;
     } else if (b.tool != BrushTool::paint_s && next.kind != RegionSource::Kind::labels) {
         next = clean_labels(total);
@@ -539,14 +541,15 @@ void EditorSession::use_handle(const HandleFrame& from, const HandleFrame& to) {
 
 void EditorSession::refresh_curve_warnings() {
     curve_warnings_.clear();
-    if (motion_.is_fixed_rotation() || s_.empty()) return;
+    if (motion_.is_fixed_rotation() || region_.s.empty()) return;
     if (motion_.curve().polygon_length() == 0.0) {
         curve_warnings_.push_back("curve: all control points coincide, so nothing moves");
         return;
     }
     const std::uint32_t v = nearest_vertex(doc_.file.mesh.positions, motion_.curve().at(0.0).position);
-    if (s_[v] > 0.0) curve_warnings_.push_back("curve: c(0) does not start in the inner region (s = " +
-                                               std::to_string(s_[v]) + " at the nearest vertex)");
+    if (region_.s[v] > 0.0)
+        curve_warnings_.push_back("curve: c(0) does not start in the inner region (s = " +
+                                  std::to_string(region_.s[v]) + " at the nearest vertex)");
 }
 
 // ---- time --------------------------------------------------------------------
@@ -602,12 +605,13 @@ void EditorSession::base_moved_stats() {
     base_volume_ = signed_volume(mesh.positions, mesh.triangles);
     stats_.applied = doc_.baked;
     base_since_opened_.volume_error_percent = volume_error_percent(base_volume_, opened_volume_);
-    base_since_opened_.flipped = doc_.baked ? flipped_triangle_list(opened_positions_, mesh.positions, mesh.triangles).size() : 0;
+    base_against_ = facing_against_neighbours(mesh.positions, mesh.triangles, neighbours_);
+    base_since_opened_.flipped = doc_.baked ? newly_facing_against(opened_against_, base_against_).size() : 0;
 }
 
 void EditorSession::ensure_deformation() {
     if (deformation_) return;
-    prepared_ = std::make_unique<PreparedScene>(prepare_scene(current_scene(), doc_.file));
+    prepared_ = std::make_unique<PreparedScene>(prepare_scene(current_scene(), doc_.file, doc_.rings, region_));
     std::string reason = force_cpu_ ? "CPU chosen" : gpu_reason_;
     if (gpu_ && !force_cpu_) {
         try {
@@ -624,18 +628,31 @@ void EditorSession::ensure_deformation() {
 int EditorSession::update(int max_steps) {
     if (time() == target_time()) return 0;
     int taken = 0;
-    try {
+    run_step([&] {
         ensure_deformation();
         taken = deformation_->advance(target_time(), max_steps);
         if (taken > 0) {
             changed(positions_moved);
             update_stats();
         }
+    });
+    return taken;
+}
+
+bool EditorSession::prepare_run() {
+    if (deformation_ || time() == target_time()) return false;
+    run_step([&] { ensure_deformation(); });
+    return true;
+}
+
+// A failure on the way to the target stops the run where it is and says why.
+void EditorSession::run_step(const std::function<void()>& work) {
+    try {
+        work();
     } catch (const std::exception& e) {
         runtime_error_ = std::string("deformation stopped: ") + e.what();
         set_target(time());
     }
-    return taken;
 }
 
 void EditorSession::update_stats() {
@@ -645,11 +662,11 @@ void EditorSession::update_stats() {
     const auto& mesh = doc_.file.mesh;
     const double volume = signed_volume(now, mesh.triangles);
     stats_.volume_error_percent = volume_error_percent(volume, base_volume_);
-    folded_ = flipped_triangle_list(mesh.positions, now, mesh.triangles);
+    const std::vector<std::uint8_t> against = facing_against_neighbours(now, mesh.triangles, neighbours_);
+    folded_ = newly_facing_against(base_against_, against);
     stats_.flipped_triangles = folded_.size();
     stats_.volume_error_since_opened_percent = volume_error_percent(volume, opened_volume_);
-    stats_.flipped_since_opened =
-        doc_.baked ? flipped_triangle_list(opened_positions_, now, mesh.triangles).size() : folded_.size();
+    stats_.flipped_since_opened = doc_.baked ? newly_facing_against(opened_against_, against).size() : folded_.size();
     if (stats_.flipped_triangles > 0 && stats_.first_fold_time < 0.0) stats_.first_fold_time = time();
 }
 
@@ -680,7 +697,7 @@ void EditorSession::apply() {
     bake.region_before = doc_.region;
     bake.region_after.kind = RegionSource::Kind::spec;
     bake.region_after.spec.kind = RegionSpec::Kind::field;
-    bake.region_after.spec.s = s_;
+    bake.region_after.spec.s = region_.s;
     bake.motion_before = doc_.scene.motion;
     bake.motion_after = doc_.scene.motion;
     bake.baked_before = doc_.baked;

@@ -20,6 +20,7 @@
 
 #include "base/error.h"
 #include "deform/deformation.h"
+#include "deform/quality.h"
 #include "editor/edit_history.h"
 #include "editor/picking.h"
 #include "io/mesh_file.h"
@@ -64,9 +65,9 @@ enum class BrushTool { paint_inner, paint_outer, erase, paint_s };
 
 struct BrushSettings {
     BrushTool tool = BrushTool::paint_inner;
-    double radius = 0.1;     // geodesic, in mesh units
-    double s_target = 0.0;   // paint_s: the value s is pulled toward
-    double strength = 0.5;   // paint_s: how far each dab pulls
+    double radius = 0.1;    // geodesic, in mesh units
+    double s_target = 0.0;  // paint_s: the value s is pulled toward
+    double strength = 0.5;  // paint_s: how far each dab pulls
 };
 
 class EditorSession {
@@ -154,6 +155,11 @@ public:
     void reset();  // back to t = 0 at once
     // Takes at most `max_steps` steps toward the target; returns how many.
     int update(int max_steps);
+    // Prepares the deformation a run toward the target needs (the region's parts,
+    // the mesh reordered, ...) when none is ready, without a step: an editor gives
+    // it a frame of its own. True when it prepared (or failed to: the error is in
+    // warnings() and the run stops, as update()'s).
+    bool prepare_run();
     // Bakes the deformed mesh as the new base (one undo step) and sets the target
     // to 0. No-op at t = 0. Its undo restores the base and sets the target back to
     // the time it was applied at (update() plays there again); redo applies again.
@@ -168,7 +174,7 @@ public:
     const std::vector<Vec3>& base_positions() const { return doc_.file.mesh.positions; }
     const std::vector<Triangle>& triangles() const { return doc_.file.mesh.triangles; }
     const VertexRings& rings() const { return doc_.rings; }
-    const std::vector<double>& s() const { return s_; }
+    const std::vector<double>& s() const { return region_.s; }
     const RegionSource& region() const { return doc_.region; }
     const RegionPaint& paint() const { return doc_.paint; }
     // The curve (or handle) and its settings: the scene's motion, as set_curve takes it.
@@ -247,6 +253,7 @@ private:
     void drop_deformation();
     void predict_backend();
     void ensure_deformation();
+    void run_step(const std::function<void()>& work);
     void update_stats();
     void base_moved_stats();
 
@@ -259,7 +266,7 @@ private:
     bool force_cpu_ = false;
 
     Document doc_;
-    std::vector<double> s_;
+    Region region_;  // s per vertex (sec. 6), for the document's region and base positions
     std::vector<std::uint32_t> folded_;
     std::vector<std::string> region_warnings_, curve_warnings_;
     std::string runtime_error_, autosave_warning_;
@@ -269,6 +276,11 @@ private:
     // The mesh as opened, for the stats since then (kept across applies).
     std::vector<Vec3> opened_positions_;
     double opened_volume_ = 0.0;
+    // The fold count's parts that stay while the deformation runs (quality.h): the
+    // triangles' edge neighbours, and which triangles already face against them at
+    // the base and as opened.
+    TriangleNeighbours neighbours_;
+    std::vector<std::uint8_t> base_against_, opened_against_;
     struct {
         double volume_error_percent = 0.0;
         std::size_t flipped = 0;

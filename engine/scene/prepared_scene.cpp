@@ -15,7 +15,8 @@ namespace {
 std::vector<double> sphere_tool_field(const SphereTool& tool, const std::vector<Vec3>& positions) {
     std::vector<double> s(positions.size());
     for (std::size_t v = 0; v < positions.size(); ++v)
-        s[v] = std::clamp((glm::length(positions[v] - tool.centre) - tool.r_inner) / (tool.r_outer - tool.r_inner), 0.0, 1.0);
+        s[v] = std::clamp((glm::length(positions[v] - tool.centre) - tool.r_inner) / (tool.r_outer - tool.r_inner), 0.0,
+                          1.0);
     return s;
 }
 
@@ -23,7 +24,8 @@ std::vector<double> sphere_tool_field(const SphereTool& tool, const std::vector<
 // signed distance from c(0): where the twist's plane ẽ = 0 goes by default.
 // A zero start tangent (eq. 17 with the handle moved along its own plane) takes
 // the direction just after t = 0, where the motion heads.
-double far_end_of_moving_part(const InnerMotion& motion, const std::vector<Vec3>& positions, const std::vector<double>& s) {
+double far_end_of_moving_part(const InnerMotion& motion, const std::vector<Vec3>& positions,
+                              const std::vector<double>& s) {
     const Vec3 start = motion.curve().at(0.0).position;
     const Vec3 tangent = motion.start_tangent();
     double far = 0.0;
@@ -35,8 +37,10 @@ double far_end_of_moving_part(const InnerMotion& motion, const std::vector<Vec3>
 void warn_about_region(const Region& region, std::vector<std::string>& warnings) {
     const bool any_moves = std::any_of(region.s.begin(), region.s.end(), [](double s) { return s < 1.0; });
     const bool any_inner = std::any_of(region.s.begin(), region.s.end(), [](double s) { return s <= 0.0; });
-    if (!any_moves) warnings.push_back("region: s is 1 everywhere, so nothing moves");
-    else if (!any_inner) warnings.push_back("region: no vertex has s = 0, so no part follows the curve fully");
+    if (!any_moves)
+        warnings.push_back("region: s is 1 everywhere, so nothing moves");
+    else if (!any_inner)
+        warnings.push_back("region: no vertex has s = 0, so no part follows the curve fully");
 }
 
 void warn_about_motion(const PreparedScene& p, std::vector<std::string>& warnings) {
@@ -61,8 +65,7 @@ Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, 
     switch (spec.kind) {
         case RegionSpec::Kind::painted: {
             RegionField field = painted_region_field(positions, rings, select_vertices(positions, spec.inner),
-                                                     select_vertices(positions, spec.outer), spec.geodesic,
-                                                     spec.band);
+                                                     select_vertices(positions, spec.outer), spec.geodesic, spec.band);
             warnings.insert(warnings.end(), field.warnings.begin(), field.warnings.end());
             region.s = std::move(field.s);
             break;
@@ -92,22 +95,51 @@ Deformation PreparedScene::start_deformation() const {
 
 PreparedScene prepare_scene(const Scene& scene) { return prepare_scene(scene, load_mesh_file(scene.mesh)); }
 
-PreparedScene prepare_scene(const Scene& scene, MeshFile file) {
-    PreparedScene p;
-    p.scene = scene;
-    p.file = std::move(file);
-    if (p.file.mesh.vertex_count() == 0) throw InputError(scene.mesh + ": the mesh has no vertices");
+namespace {
+
+void check_coordinates(const Scene& scene, const MeshFile& file) {
+    if (file.mesh.vertex_count() == 0) throw InputError(scene.mesh + ": the mesh has no vertices");
     try {
-        LocalFrame::of(p.file.mesh.positions);  // coordinates the deformation can take, before the region's distances
+        LocalFrame::of(file.mesh.positions);  // coordinates the deformation can take, before the region's distances
     } catch (const InputError& e) {
         throw InputError(scene.mesh + ": " + e.what());
     }
-    p.rings = build_vertex_rings(p.file.mesh);
-    p.region = build_region(scene.region, p.file.mesh.positions, p.rings, p.warnings);
+}
+
+// The motion's part of the preparation, once the region is known.
+void prepare_motion(PreparedScene& p) {
+    const Scene& scene = p.scene;
     p.motion = build_motion(scene.motion);
     if (!scene.motion.twist_plane && !p.motion.is_fixed_rotation())
         p.motion.set_twist_plane(far_end_of_moving_part(p.motion, p.file.mesh.positions, p.region.s));
     warn_about_motion(p, p.warnings);
+}
+
+}  // namespace
+
+PreparedScene prepare_scene(const Scene& scene, MeshFile file) {
+    check_coordinates(scene, file);
+    PreparedScene p;
+    p.scene = scene;
+    p.file = std::move(file);
+    p.rings = build_vertex_rings(p.file.mesh);
+    p.region = build_region(scene.region, p.file.mesh.positions, p.rings, p.warnings);
+    prepare_motion(p);
+    return p;
+}
+
+PreparedScene prepare_scene(const Scene& scene, MeshFile file, VertexRings rings, Region region) {
+    check_coordinates(scene, file);
+    if (rings.vertex_count() != file.mesh.vertex_count() ||
+        (!region.sphere_tool && region.s.size() != file.mesh.vertex_count()))
+        throw InputError(scene.mesh + ": the rings or the region do not match the mesh");
+    PreparedScene p;
+    p.scene = scene;
+    p.file = std::move(file);
+    p.rings = std::move(rings);
+    p.region = std::move(region);
+    warn_about_region(p.region, p.warnings);
+    prepare_motion(p);
     return p;
 }
 

@@ -31,5 +31,8 @@ Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, 
 PreparedScene prepare_scene(const Scene& scene);
 // Same, on a mesh already in memory (the editors' current mesh).
 PreparedScene prepare_scene(const Scene& scene, MeshFile file);
+// Same, with the mesh's rings and scene.region's region on it already built (an
+// editor keeps both while the user edits): nothing is computed twice.
+PreparedScene prepare_scene(const Scene& scene, MeshFile file, VertexRings rings, Region region);
 
 }  // namespace vfsd
