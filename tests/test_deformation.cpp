@@ -183,6 +183,24 @@ TEST_CASE("handle mode carries (h, m, w) onto the target handle", "[deform][hand
     }
 }
 
+TEST_CASE("preparing the first step apart changes no step", "[deform]") {
+    const BoxScene scene;
+    const InnerMotion motion = InnerMotion::along_curve(bend_curve(), InnerMotionMode::Rotation, 0.0, 0.5);
+    for (const bool midpoint : {true, false}) {
+        DeformationOptions options;
+        options.gradients_at_midpoint = midpoint;
+        Deformation plain = scene.deformation(motion, 50, options), prepared = scene.deformation(motion, 50, options);
+        // Only where the first step estimates ∇r apart from its midpoint's (and once).
+        CHECK(prepared.prepare_first_step() == midpoint);
+        CHECK_FALSE(prepared.prepare_first_step());
+        CHECK(prepared.positions() == plain.positions());  // no step taken yet
+        plain.advance(1.0);
+        prepared.advance(1.0);
+        CHECK(prepared.positions() == plain.positions());
+        CHECK_FALSE(prepared.prepare_first_step());
+    }
+}
+
 TEST_CASE("integrating forward to t = 1 and back to t = 0 restores the mesh", "[deform]") {
     const BoxScene scene;
     Deformation d = scene.deformation(InnerMotion::along_curve(bend_curve(), InnerMotionMode::Rotation, 0.0, 0.5), 250);

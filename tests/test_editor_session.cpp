@@ -73,6 +73,26 @@ TEST_CASE("EditorSession: save, load and deform give the session's own result", 
     CHECK(deform_scene_file(path) == session.positions());
 }
 
+TEST_CASE("EditorSession: a run prepared a part per frame steps as one that is not", "[editor][session]") {
+    Scene scene = load_scene(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json");
+    scene.options.steps = 40;
+    EditorSession framed, plain;
+    framed.open_scene(scene);
+    plain.open_scene(scene);
+    framed.set_target_time(0.0);
+    CHECK_FALSE(framed.prepare_run());  // at its target: nothing to prepare
+    framed.set_target_time(0.5);
+    plain.set_target_time(0.5);
+    CHECK(framed.prepare_run());  // the deformation
+    CHECK(framed.prepare_run());  // the first step's estimates
+    CHECK_FALSE(framed.prepare_run());
+    CHECK(framed.time() == 0.0);
+    run_to_target(framed);
+    run_to_target(plain);
+    CHECK(framed.positions() == plain.positions());
+    CHECK_FALSE(framed.prepare_run());
+}
+
 TEST_CASE("EditorSession: export writes the current shape", "[editor][session]") {
     test::ScratchDir dir;
     EditorSession session;

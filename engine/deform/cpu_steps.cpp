@@ -84,10 +84,7 @@ void CpuSteps::step(double time, double h, int step) {
         // The gauge, like ∇r, is taken where the step's middle is, so that a step
         // back retraces the step; the midpoints are predicted with the last step's
         // ∇r and gauge fit, as sec. 5 with midpoint gradients does for ∇r alone.
-        if (!options_.gradients_at_midpoint || !have_gradients_) {
-            estimate_surface_gradients(positions_);
-            if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(positions_);
-        }
+        if (!options_.gradients_at_midpoint || !have_gradients_) estimate_at_start();
         if (options_.fit_stream_gauge) motion.start.gauge = gauge_fit_->gauge_for(motion.start);
         if (options_.gradients_at_midpoint) {
             predict_midpoints(motion.start, h, s_, parts_, gradients_, positions_, midpoints_);
@@ -116,6 +113,18 @@ const std::vector<Vec3>& CpuSteps::positions() const {
         input_order_current_ = true;
     }
     return input_order_;
+}
+
+bool CpuSteps::prepare_first_step() {
+    if (region_.sphere_tool || have_gradients_ || !options_.gradients_at_midpoint) return false;
+    estimate_at_start();
+    return true;
+}
+
+// ∇r and the gauge's fit at the step's start.
+void CpuSteps::estimate_at_start() {
+    estimate_surface_gradients(positions_);
+    if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(positions_);
 }
 
 // The stream gauge's fit to the blend region at `at` with the current ∇r.

@@ -22,6 +22,7 @@ public:
 
     const char* name() const override { return "cpu"; }
     void step(double time, double h, int step) override;
+    bool prepare_first_step() override;
     const std::vector<Vec3>& positions() const override;
 
     // Bytes held by the deformation state: positions, work arrays, s, rings, region parts.
@@ -34,6 +35,7 @@ public:
 private:
     void check_finite(const std::vector<Vec3>& candidate, int step, double time) const;
     void estimate_surface_gradients(const std::vector<Vec3>& at);
+    void estimate_at_start();
     GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
 
     // positions_, rings_ and s_ are in the work order: vertex i is input vertex

@@ -76,6 +76,10 @@ public:
     // One RK4 step from `time` by `h` (negative: back), the `step`-th of the
     // deformation. Throws nonfinite_position() when it can tell at once.
     virtual void step(double time, double h, int step) = 0;
+    // Does now what the first step would do before it steps (the CPU: ∇r and the
+    // gauge at the start), so that a caller can give it a frame of its own; true
+    // when there was such work. The steps are the same either way.
+    virtual bool prepare_first_step() { return false; }
     // The positions at the last step's end, in the input's vertex order.
     virtual const std::vector<Vec3>& positions() const = 0;
     // Whether step() returns before its work is done (the GPU's command queue):
@@ -99,6 +103,8 @@ public:
     // vertex if a position becomes non-finite (on the CPU the positions before
     // that step are kept; the GPU's are checked when read).
     int advance(double target, int max_steps = 1 << 30);
+    // StepBackend::prepare_first_step.
+    bool prepare_first_step() { return backend_->prepare_first_step(); }
 
     double time() const { return time_; }
     // In the input's vertex order (the GPU reads them back once per advance).

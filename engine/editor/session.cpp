@@ -587,7 +587,6 @@ void EditorSession::drop_deformation() {
     runtime_error_.clear();
     if (deformation_) changed(positions_moved);  // back to the base positions
     deformation_.reset();
-    prepared_.reset();
     stats_.ms_per_step = 0.0;
     stats_.volume_error_percent = 0.0;
     stats_.flipped_triangles = 0;
@@ -611,16 +610,16 @@ void EditorSession::base_moved_stats() {
 
 void EditorSession::ensure_deformation() {
     if (deformation_) return;
-    prepared_ = std::make_unique<PreparedScene>(prepare_scene(current_scene(), doc_.file, doc_.rings, region_));
+    PreparedScene prepared = prepare_scene(current_scene(), doc_.file, doc_.rings, region_);
     std::string reason = force_cpu_ ? "CPU chosen" : gpu_reason_;
     if (gpu_ && !force_cpu_) {
         try {
-            deformation_ = gpu_(*prepared_);
+            deformation_ = gpu_(prepared);
         } catch (const std::exception& e) {
             reason = e.what();
         }
     }
-    if (!deformation_) deformation_ = prepared_->start_deformation();
+    if (!deformation_) deformation_ = std::move(prepared).start_deformation();
     stats_.backend = deformation_->backend_name();
     stats_.backend_reason = stats_.backend == "gpu" ? "" : reason;
 }
@@ -640,9 +639,15 @@ int EditorSession::update(int max_steps) {
 }
 
 bool EditorSession::prepare_run() {
-    if (deformation_ || time() == target_time()) return false;
-    run_step([&] { ensure_deformation(); });
-    return true;
+    if (time() == target_time()) return false;
+    bool prepared = true;
+    run_step([&] {
+        if (!deformation_)
+            ensure_deformation();
+        else
+            prepared = deformation_->prepare_first_step();
+    });
+    return prepared;
 }
 
 // A failure on the way to the target stops the run where it is and says why.

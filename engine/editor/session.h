@@ -155,10 +155,12 @@ public:
     void reset();  // back to t = 0 at once
     // Takes at most `max_steps` steps toward the target; returns how many.
     int update(int max_steps);
-    // Prepares the deformation a run toward the target needs (the region's parts,
-    // the mesh reordered, ...) when none is ready, without a step: an editor gives
-    // it a frame of its own. True when it prepared (or failed to: the error is in
-    // warnings() and the run stops, as update()'s).
+    // Prepares what a run toward the target needs before its first step, one part
+    // per call, so that an editor can give each a frame of its own: the
+    // deformation (the region's parts, the mesh reordered, ...) when none is
+    // ready, then the first step's estimates (Deformation::prepare_first_step).
+    // True when it did some (or failed to: the error is in warnings() and the run
+    // stops, as update()'s); false once the run can step.
     bool prepare_run();
     // Bakes the deformed mesh as the new base (one undo step) and sets the target
     // to 0. No-op at t = 0. Its undo restores the base and sets the target back to
@@ -292,7 +294,6 @@ private:
     RegionChange pending_region_;
     MotionSpec pending_curve_;
 
-    std::unique_ptr<PreparedScene> prepared_;
     std::optional<Deformation> deformation_;
     SessionStats stats_;
     std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1, document_revision_ = 1;

@@ -89,8 +89,13 @@ Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, 
     return region;
 }
 
-Deformation PreparedScene::start_deformation() const {
+Deformation PreparedScene::start_deformation() const& {
     return Deformation(file.mesh.positions, rings, region, motion, scene.options);
+}
+
+Deformation PreparedScene::start_deformation() && {
+    return Deformation(std::move(file.mesh.positions), std::move(rings), std::move(region), std::move(motion),
+                       scene.options);
 }
 
 PreparedScene prepare_scene(const Scene& scene) { return prepare_scene(scene, load_mesh_file(scene.mesh)); }

@@ -19,7 +19,9 @@ struct PreparedScene {
     InnerMotion motion;
     std::vector<std::string> warnings;
 
-    Deformation start_deformation() const;
+    Deformation start_deformation() const&;
+    // The same, the positions, rings and region moved into it instead of copied.
+    Deformation start_deformation() &&;
 };
 
 // Computes s for the mesh's current positions; call again with deformed positions
