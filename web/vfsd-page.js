@@ -454,6 +454,11 @@
       return;
     }
     if (typing(t) || (e.key === 'Enter' && t.matches && t.matches('button, a[href], input[type=file]'))) return;
+    // A held key runs its command once, as in the desktop (held Space would toggle play on and off).
+    if (e.repeat) {
+      if (e.key === ' ') e.preventDefault();
+      return;
+    }
     const r = run({ cmd: 'key', key: e.key, ctrl: e.ctrlKey || e.metaKey, shift: e.shiftKey });
     if ((r && r.handled) || e.key === ' ') e.preventDefault();
   }, true);

@@ -4,7 +4,8 @@
 // view until dismissed (Escape or its button), as the status line, and once in
 // the console. Keys go to the editor whatever has the focus: Space after a click
 // on Export OBJ plays and downloads nothing more, Space on a clicked checkbox
-// plays and leaves it as it is; in a text or number field Space is the field's.
+// plays and leaves it as it is; in a text or number field Space is the field's;
+// a held key runs its command once, as in the desktop.
 // New region and the band slider each make one undo step.
 import path from 'node:path';
 import { openPage, outDir, check } from './harness.mjs';
@@ -83,6 +84,14 @@ try {
   check(afterBox.wireframe === true && afterBox.target_time === 1, 'Space on the checkbox plays and leaves it checked');
   await page.keyboard.press('r');
   await page.getByLabel('Wireframe').click();
+
+  // ---- a held key runs its command once (the key's repeats do not toggle play on and off) ----
+  await page.keyboard.down(' ');
+  for (let k = 0; k < 5; k++) await page.keyboard.down(' ');  // the browser's repeats: repeat = true
+  const held = await api(() => window.vfsd.state());
+  await page.keyboard.up(' ');
+  check(held.target_time === 1, `held Space plays once, its 5 repeats ignored (target time ${held.target_time})`);
+  await page.keyboard.press('r');
 
   // ---- Space in a text or number field is the field's ----
   await api(() => {
