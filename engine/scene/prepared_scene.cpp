@@ -57,6 +57,24 @@ void warn_about_motion(const PreparedScene& p, std::vector<std::string>& warning
                            " at the nearest vertex); sec. 3 expects it there");
 }
 
+void check_coordinates(const Scene& scene, const MeshFile& file) {
+    if (file.mesh.vertex_count() == 0) throw InputError(scene.mesh + ": the mesh has no vertices");
+    try {
+        LocalFrame::of(file.mesh.positions);  // coordinates the deformation can take, before the region's distances
+    } catch (const InputError& e) {
+        throw InputError(scene.mesh + ": " + e.what());
+    }
+}
+
+// The motion's part of the preparation, once the region is known.
+void prepare_motion(PreparedScene& p) {
+    const Scene& scene = p.scene;
+    p.motion = build_motion(scene.motion);
+    if (!scene.motion.twist_plane && !p.motion.is_fixed_rotation())
+        p.motion.set_twist_plane(far_end_of_moving_part(p.motion, p.file.mesh.positions, p.region.s));
+    warn_about_motion(p, p.warnings);
+}
+
 }  // namespace
 
 Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, const VertexRings& rings,
@@ -99,28 +117,6 @@ Deformation PreparedScene::start_deformation() && {
 }
 
 PreparedScene prepare_scene(const Scene& scene) { return prepare_scene(scene, load_mesh_file(scene.mesh)); }
-
-namespace {
-
-void check_coordinates(const Scene& scene, const MeshFile& file) {
-    if (file.mesh.vertex_count() == 0) throw InputError(scene.mesh + ": the mesh has no vertices");
-    try {
-        LocalFrame::of(file.mesh.positions);  // coordinates the deformation can take, before the region's distances
-    } catch (const InputError& e) {
-        throw InputError(scene.mesh + ": " + e.what());
-    }
-}
-
-// The motion's part of the preparation, once the region is known.
-void prepare_motion(PreparedScene& p) {
-    const Scene& scene = p.scene;
-    p.motion = build_motion(scene.motion);
-    if (!scene.motion.twist_plane && !p.motion.is_fixed_rotation())
-        p.motion.set_twist_plane(far_end_of_moving_part(p.motion, p.file.mesh.positions, p.region.s));
-    warn_about_motion(p, p.warnings);
-}
-
-}  // namespace
 
 PreparedScene prepare_scene(const Scene& scene, MeshFile file) {
     check_coordinates(scene, file);
