@@ -36,6 +36,8 @@ struct Outcome {
     DeformationQuality quality;
     double first_fold_time = -1.0;       // the first tenth of t at which a triangle had folded; −1: none
     double ms_per_step = 0.0;
+    FoldRepairStats repairs;
+    double repair_shift_over_diagonal = 0.0;  // the fold repair's largest move of a vertex in a step, / diagonal
     std::vector<std::string> warnings;
     std::string error;  // the deformation failed (a non-finite vertex): the scene fails
     std::vector<Vec3> result;
@@ -66,6 +68,8 @@ Outcome run_scene(BatteryScene b) {
     o.result = d.positions();
     o.quality = measure_quality(before, o.result, triangles, prepared.region.s);
     o.ms_per_step = median(d.step_milliseconds());
+    o.repairs = d.fold_repairs();
+    o.repair_shift_over_diagonal = o.repairs.max_shift / bounding_box(before).diagonal();
     return o;
 }
 
@@ -91,6 +95,9 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"outer_max_displacement", o.quality.outer_max_displacement},
             {"inner_rigid_residual", o.quality.inner_rigid_residual},
             {"ms_per_step", o.ms_per_step},
+            {"fold_repair_steps", o.repairs.steps_repaired},
+            {"fold_repair_vertex_moves", o.repairs.vertex_moves},
+            {"fold_repair_max_shift_over_diagonal", o.repair_shift_over_diagonal},
             {"warnings", o.warnings},
             {"error", o.error},
             {"passed", !o.failed()}};
@@ -131,7 +138,7 @@ void write_csv(const std::filesystem::path& path, const std::vector<Outcome>& ou
     std::ofstream out(path);
     out << "name,vertices,region,motion,inner_motion,bend_degrees,twist_degrees,scale,mirrored,flipped_triangles,"
            "first_fold_time,volume_error_percent,volume_change_percent,outer_max_displacement,inner_rigid_residual,"
-           "ms_per_step,passed\n";
+           "ms_per_step,fold_repair_steps,fold_repair_max_shift_over_diagonal,passed\n";
     for (const Outcome& o : outcomes) {
         const nlohmann::json j = outcome_json(o);
         out << j["name"].get<std::string>() << ',' << j["vertices"] << ',' << j["region"].get<std::string>() << ','
@@ -139,7 +146,7 @@ void write_csv(const std::filesystem::path& path, const std::vector<Outcome>& ou
             << ',' << j["twist_degrees"] << ',' << j["scale"] << ',' << j["mirrored"] << ',' << j["flipped_triangles"]
             << ',' << j["first_fold_time"] << ',' << j["volume_error_percent"] << ',' << j["volume_change_percent"]
             << ',' << j["outer_max_displacement"] << ',' << j["inner_rigid_residual"] << ',' << j["ms_per_step"] << ','
-            << j["passed"] << '\n';
+            << j["fold_repair_steps"] << ',' << j["fold_repair_max_shift_over_diagonal"] << ',' << j["passed"] << '\n';
     }
 }
 
@@ -202,22 +209,25 @@ int run_battery(const Args& args) {
         BatteryScene b = generate_battery_scene(static_cast<std::uint64_t>(seed), index, sources, amplitude);
         if (steps > 0) b.scene.options.steps = steps;
         if (scheme == "paper") {  // sec. 5 as printed, for comparison
-            b.scene.options.fit_stream_gauge = b.scene.options.keep_volume = false;
+            b.scene.options = gpu_mirrored(b.scene.options);
             b.scene.options.tangent_smoothing = true;
         }
         outcomes.push_back(run_scene(std::move(b)));
         const Outcome& o = outcomes.back();
-        std::printf("%-48s %7zu v  folds %5zu  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step%s%s\n",
-                    o.battery.name.c_str(), o.battery.mesh.mesh.vertex_count(), o.quality.flipped_triangles,
-                    o.quality.volume_change_percent, o.quality.outer_max_displacement, o.quality.inner_rigid_residual,
-                    o.ms_per_step, o.error.empty() ? "" : "  error: ", o.error.c_str());
+        std::printf(
+            "%-48s %7zu v  folds %5zu  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step  repaired %3zu "
+            "steps (%.1e D)%s%s\n",
+            o.battery.name.c_str(), o.battery.mesh.mesh.vertex_count(), o.quality.flipped_triangles,
+            o.quality.volume_change_percent, o.quality.outer_max_displacement, o.quality.inner_rigid_residual,
+            o.ms_per_step, o.repairs.steps_repaired, o.repair_shift_over_diagonal,
+            o.error.empty() ? "" : "  error: ", o.error.c_str());
         std::fflush(stdout);
     }
 
     nlohmann::json scenes = nlohmann::json::array();
     std::vector<double> volume, ms;
-    std::size_t folded = 0, folds = 0, failed = 0;
-    double outer = 0.0, inner = 0.0;
+    std::size_t folded = 0, folds = 0, failed = 0, repaired = 0;
+    double outer = 0.0, inner = 0.0, shift = 0.0;
     for (const Outcome& o : outcomes) {
         scenes.push_back(outcome_json(o));
         volume.push_back(o.quality.volume_error_percent);
@@ -227,6 +237,8 @@ int run_battery(const Args& args) {
         failed += o.failed();
         outer = std::max(outer, o.quality.outer_max_displacement);
         inner = std::max(inner, o.quality.inner_rigid_residual);
+        repaired += o.repairs.steps_repaired > 0;
+        shift = std::max(shift, o.repair_shift_over_diagonal);
     }
     const nlohmann::json summary = {{"seed", seed},
                                     {"amplitude", amplitude},
@@ -240,7 +252,9 @@ int run_battery(const Args& args) {
                                     {"volume_error_percent_max", percentile(volume, 1.0)},
                                     {"outer_max_displacement", outer},
                                     {"inner_rigid_residual_max", inner},
-                                    {"ms_per_step_median", percentile(ms, 0.5)}};
+                                    {"ms_per_step_median", percentile(ms, 0.5)},
+                                    {"scenes_repaired", repaired},
+                                    {"fold_repair_max_shift_over_diagonal", shift}};
     write_file_atomically((dir / "battery.json").string(),
                           nlohmann::json{{"summary", summary}, {"scenes", scenes}}.dump(1) + "\n");
     write_csv(dir / "battery.csv", outcomes);
@@ -254,12 +268,15 @@ int run_battery(const Args& args) {
     });
     for (int k = 0; k < worst && k < int(order.size()); ++k) write_worst(dir, k + 1, *order[k]);
 
-    std::printf("battery seed %d, amplitude %g, scheme %s: %zu scenes, %zu failed, %zu with folds (%zu triangles); volume error median %.4f%%, "
-                "p95 %.4f%%, max %.4f%%; outer displacement max %.3g; inner rigid residual max %.3g; %.3f ms/step "
-                "median\n",
-                seed, amplitude, scheme.c_str(), outcomes.size(), failed, folded, folds, summary["volume_error_percent_median"].get<double>(),
-                summary["volume_error_percent_p95"].get<double>(), summary["volume_error_percent_max"].get<double>(),
-                outer, inner, summary["ms_per_step_median"].get<double>());
+    std::printf(
+        "battery seed %d, amplitude %g, scheme %s: %zu scenes, %zu failed, %zu with folds (%zu triangles); volume "
+        "error median %.4f%%, "
+        "p95 %.4f%%, max %.4f%%; outer displacement max %.3g; inner rigid residual max %.3g; %.3f ms/step "
+        "median; fold repair in %zu scenes (largest move %.2g D)\n",
+        seed, amplitude, scheme.c_str(), outcomes.size(), failed, folded, folds,
+        summary["volume_error_percent_median"].get<double>(), summary["volume_error_percent_p95"].get<double>(),
+        summary["volume_error_percent_max"].get<double>(), outer, inner, summary["ms_per_step_median"].get<double>(),
+        repaired, shift);
     return failed == 0 ? kExitOk : kExitInput;
 }
 

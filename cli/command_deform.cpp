@@ -177,15 +177,17 @@ int run_deform(const Args& args) {
     }
     const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();  // GpuUnavailable: exit 1
     if (!gpu_mirrors(scene.options))
-        std::fprintf(stderr, "warning: the GPU passes run sec. 5 as printed: no stream gauge fit, no volume keeping "
-                             "(docs/gpu.md); --backend cpu takes them\n");
+        std::fprintf(stderr,
+                     "warning: the GPU passes run sec. 5 as printed: no stream gauge fit, no volume keeping, "
+                     "no fold repair (docs/gpu.md); --backend cpu takes them\n");
     Deformation deformation = gpu::make_gpu_deformation(prepared.file.mesh.positions, prepared.rings, prepared.region,
                                                         prepared.motion, gpu_mirrored(scene.options));
     return deform_and_write(args, prepared, deformation,
                             {{"gl_context", context->kind()},
                              {"gl_renderer", context->renderer()},
                              {"stream_gauge", "paper"},
-                             {"keep_volume", false}});
+                             {"keep_volume", false},
+                             {"fold_repair", false}});
 }
 
 }  // namespace vfsd::cli

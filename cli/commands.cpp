@@ -50,7 +50,8 @@ const std::vector<Command>& commands() {
          "the curve, a white sphere at c(t) and a dark one at the scene's target time.\n"
          "--time integrates to t first (default 0, the undeformed scene) on the CPU,\n"
          "or on the GPU when it runs every step the scene asks for (sec. 5 as printed:\n"
-         "\"stream_gauge\": \"paper\", \"keep_volume\": false) or --backend gpu says so.\n"
+         "\"stream_gauge\": \"paper\", \"keep_volume\": false, \"fold_repair\": false) or\n"
+         "--backend gpu says so.\n"
          "--size defaults to 800x600. The camera frames the whole deformation from --view\n"
          "(default iso, a 3/4 view) with --up the axis that is up on the screen (default z;\n"
          "y for meshes modelled y-up); --zoom 4 shows a quarter as much, about --target\n"
@@ -58,7 +59,8 @@ const std::vector<Command>& commands() {
          "Needs OSMesa.\n",
          run_render},
         {"bench", "time the deformation per step on the paper's models and larger meshes",
-         "usage: vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--no-gpu]\n"
+         "usage: vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] "
+         "[--no-gpu]\n"
          "       vfsd bench --picking [--mesh SPEC] [--rays N]\n"
          "\n"
          "Per mesh: a 45-degree bend of 250 RK4 steps (10 smoothing steps each), ms per step\n"
@@ -87,8 +89,10 @@ const std::vector<Command>& commands() {
          "rotation and translation (--amplitude A in (0, 1] scales bends, twists, turns and\n"
          "moves down). Each is deformed on the CPU (--steps overrides the 250\n"
          "steps; --scheme paper runs sec. 5 as printed: \"stream_gauge\": \"paper\",\n"
-         "\"smoothing\": \"tangent\", \"keep_volume\": false); per scene: flipped triangles and when the first appeared, volume error and\n"
-         "change, outer displacement, inner rigid residual, ms/step. Writes DIR/battery.json,\n"
+         "\"smoothing\": \"tangent\", \"keep_volume\": false, \"fold_repair\": false); per scene: flipped\n"
+         "triangles and when the first appeared, volume error and change, outer\n"
+         "displacement, inner rigid residual, ms/step, the vertices the fold repair placed\n"
+         "again and how far. Writes DIR/battery.json,\n"
          "DIR/battery.csv and, for the K worst (default 5), DIR/worst-R-NAME.{json,ply,png}:\n"
          "'vfsd deform' on the .json reproduces the scene. --only INDEX runs scene INDEX alone.\n"
          "Exits 1 when a scene folds, moves its outer region or bends its inner region.\n",

@@ -1,11 +1,12 @@
 // The scene battery (engine/scene/battery.h) on the coarse built-in meshes: the
 // scenes are reproducible and cover every kind, and the deformation keeps the
-// method's promises on them. At a quarter of the battery's full amplitude (bends
-// to 45°, twists to ±45°, handles turned to 22.5°) no triangle folds; at full
-// amplitude the outer region stays, the inner region is rigid and the volume is
-// kept, and the folds that remain are printed (docs/method.md, "Keeping the
-// promise", says where they come from). test_gpu_deformation.cpp runs the GPU
-// passes on these scenes.
+// method's promises on them: at a quarter of the battery's full amplitude (bends
+// to 45°, twists to ±45°, handles turned to 22.5°) and at full amplitude no
+// triangle folds, the outer region stays, the inner region is rigid and the
+// volume is kept. At full amplitude the fold repair (deform/fold_repair.h) is
+// what keeps the folds away: without it most scenes fold (docs/method.md,
+// "Keeping the promise", says where they come from). test_gpu_deformation.cpp
+// runs the GPU passes on these scenes.
 #include <catch2/catch.hpp>
 
 #include <cstdio>
@@ -114,20 +115,26 @@ TEST_CASE("battery at a quarter amplitude: no folds, outer in place, inner rigid
                 kScenes, folds);
 }
 
-TEST_CASE("battery at full amplitude: outer in place, inner rigid, volume kept; folds printed", "[battery][deform]") {
-    std::size_t folds = 0, folded = 0, paper_folds = 0, paper_folded = 0;
+TEST_CASE("battery at full amplitude: no folds, outer in place, inner rigid, volume kept", "[battery][deform]") {
+    std::size_t folds = 0, folded = 0, paper_folds = 0, paper_folded = 0, unrepaired_folded = 0;
     for (int index = 0; index < kScenes; ++index) {
         const BatteryScene b = generate_battery_scene(kSeed, index, sources());
         const Run run = deform(b, b.scene.options);
         check_promises(b, run.quality);
+        CHECK(run.quality.flipped_triangles == 0);
         folds += run.quality.flipped_triangles, folded += run.quality.flipped_triangles > 0;
-        DeformationOptions paper = b.scene.options;  // sec. 5 as printed, for comparison
-        paper.fit_stream_gauge = paper.keep_volume = false, paper.tangent_smoothing = true;
+        DeformationOptions unrepaired = b.scene.options;
+        unrepaired.repair_folds = false;
+        unrepaired_folded += deform(b, unrepaired).quality.flipped_triangles > 0;
+        DeformationOptions paper = gpu_mirrored(b.scene.options);  // sec. 5 as printed, for comparison
+        paper.tangent_smoothing = true;
         const Run printed = deform(b, paper);
         paper_folds += printed.quality.flipped_triangles, paper_folded += printed.quality.flipped_triangles > 0;
     }
-    std::printf("battery seed %d, full amplitude, %d coarse built-in scenes: %zu scenes fold (%zu triangles); "
-                "sec. 5 as printed: %zu scenes (%zu triangles)\n",
-                int(kSeed), kScenes, folded, folds, paper_folded, paper_folds);
-    CHECK(folds <= paper_folds);
+    std::printf(
+        "battery seed %d, full amplitude, %d coarse built-in scenes: %zu scenes fold (%zu triangles); "
+        "without the fold repair %zu scenes; sec. 5 as printed: %zu scenes (%zu triangles)\n",
+        int(kSeed), kScenes, folded, folds, unrepaired_folded, paper_folded, paper_folds);
+    CHECK(unrepaired_folded > kScenes / 4);  // the scenes are hard enough to need the repair
+    CHECK(paper_folded > kScenes / 4);
 }

@@ -90,8 +90,13 @@ TEST_CASE("vfsd deform says when triangles fold, how many, from when and where",
     // neighbours in the written mesh; stderr says so.
     nlohmann::json scene = nlohmann::json::parse(std::ifstream(std::string(VFSD_SOURCE_DIR) +
                                                                "/assets/scenes/fig05-box-bend-twist.json"));
-    scene.update({{"twist_degrees", {0, 180}}, {"stream_gauge", "paper"}, {"smoothing", "tangent"},
-                  {"keep_volume", false}, {"smoothing_steps", 0}, {"steps", 40}});
+    scene.update({{"twist_degrees", {0, 180}},
+                  {"stream_gauge", "paper"},
+                  {"smoothing", "tangent"},
+                  {"keep_volume", false},
+                  {"fold_repair", false},
+                  {"smoothing_steps", 0},
+                  {"steps", 40}});
     write_bytes(dir.file("twist.json"), scene.dump());
     REQUIRE(deform(dir, "'" + dir.file("twist.json") + "' --out '" + dir.file("out.ply") + "' --report '" +
                             dir.file("r.json") + "'") == 0);

@@ -65,9 +65,12 @@ TEST_CASE("an editor whose GPU cannot hold the mesh deforms on the CPU and says 
 TEST_CASE("the GPU path refuses meshes too small or too large for float textures, naming the cause", "[gpu][robustness]") {
     // Checked before any GL call, so no context is needed.
     for (const double scale : {1e-30, 1e30}) {
-        const Scene scene = parse_scene(nlohmann::json::parse(R"({"mesh": "builtin:box:4", "curve": {"bezier": [[0,0,0.6],[0,0,0.8],[0,0,1],[0,0,1.2]]},
+        const Scene scene =
+            parse_scene(nlohmann::json::parse(
+                            R"({"mesh": "builtin:box:4", "curve": {"bezier": [[0,0,0.6],[0,0,0.8],[0,0,1],[0,0,1.2]]},
             "region": {"kind": "geodesic", "seed": [0, 0, 0.6], "g_min": 0.2, "g_max": 0.8},
-            "stream_gauge": "paper", "keep_volume": false})"), "");
+            "stream_gauge": "paper", "keep_volume": false, "fold_repair": false})"),
+                        "");
         const PreparedScene p = prepare_scene(scene);
         std::vector<Vec3> positions = p.file.mesh.positions;
         for (Vec3& x : positions) x *= scale;

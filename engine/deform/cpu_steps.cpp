@@ -66,6 +66,7 @@ CpuSteps::CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region
         parts_ = RegionParts::of(s_, rings_);
         gauge_samples_ = gauge_samples(s_, parts_.blend);
         if (options_.keep_volume) volume_ = VolumeKeeper(positions_, s_, rings_, parts_.blend);
+        if (options_.repair_folds) fold_repair_ = FoldRepair(positions_, s_, rings_);
     }
     normals_.assign(positions_.size(), Vec3(0.0));
     gradients_.assign(positions_.size(), Vec3(0.0));
@@ -97,6 +98,7 @@ void CpuSteps::step(double time, double h, int step) {
         check_finite(next_, step, time);
     }
     positions_.swap(next_);
+    fold_repair_.repair(positions_, rings_);
     // The volume drift is undone after every step, while it is small and smooth
     // (restoring it every few steps folded thin features); it is then part of
     // the step's map, and a step back undoes it as well.
@@ -137,6 +139,12 @@ GaugeFit CpuSteps::fit_stream_gauge(const std::vector<Vec3>& at) const {
     return GaugeFit(std::move(samples));
 }
 
+FoldRepairStats CpuSteps::fold_repairs() const {
+    FoldRepairStats stats = fold_repair_.stats();
+    stats.max_shift /= frame_.scale;  // in the input's units
+    return stats;
+}
+
 double CpuSteps::volume_restored_percent() const {
     return volume_.active() && volume_.rest_volume() != 0.0 ? 100.0 * volume_restored_ / std::abs(volume_.rest_volume())
                                                             : 0.0;
@@ -163,7 +171,7 @@ std::size_t CpuSteps::state_bytes() const {
            bytes(input_order_) + bytes(smoothing_.gradients) + bytes(smoothing_.next) + bytes(smoothing_.normals) +
            bytes(region_.s) + bytes(s_) + bytes(order_) + bytes(rings_.offsets) + bytes(rings_.neighbours) +
            bytes(rings_.wedge) + bytes(parts_.blend) + bytes(parts_.inner) + bytes(parts_.blend_ring_offsets) +
-           bytes(parts_.blend_rings);
+           bytes(parts_.blend_rings) + fold_repair_.bytes();
 }
 
 // Throws NumericalError at the first non-finite position among those the step moved.

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "deform/deformation.h"
+#include "deform/fold_repair.h"
 #include "deform/local_frame.h"
 #include "deform/passes.h"
 #include "deform/volume_keeper.h"
@@ -24,6 +25,7 @@ public:
     void step(double time, double h, int step) override;
     bool prepare_first_step() override;
     const std::vector<Vec3>& positions() const override;
+    FoldRepairStats fold_repairs() const override;
 
     // Bytes held by the deformation state: positions, work arrays, s, rings, region parts.
     std::size_t state_bytes() const;
@@ -63,6 +65,7 @@ private:
     std::vector<std::uint32_t> gauge_samples_;  // the blend vertices the stream's gauge is fitted to
     std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
     VolumeKeeper volume_;
+    FoldRepair fold_repair_;
     double volume_restored_ = 0.0;  // Σ |drift undone|
 };
 

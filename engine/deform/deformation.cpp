@@ -15,13 +15,15 @@ void check_options(const DeformationOptions& options) {
 }
 
 const char* const kGpuUnmirroredReason =
-    "the GPU passes do not fit the stream's gauge or keep the volume yet (docs/gpu.md); the CPU runs them, or set "
-    "\"stream_gauge\": \"paper\" and \"keep_volume\": false";
+    "the GPU passes do not fit the stream's gauge, keep the volume or repair folds yet (docs/gpu.md); the CPU runs "
+    "them, or set \"stream_gauge\": \"paper\", \"keep_volume\": false and \"fold_repair\": false";
 
-bool gpu_mirrors(const DeformationOptions& options) { return !options.fit_stream_gauge && !options.keep_volume; }
+bool gpu_mirrors(const DeformationOptions& options) {
+    return !options.fit_stream_gauge && !options.keep_volume && !options.repair_folds;
+}
 
 DeformationOptions gpu_mirrored(DeformationOptions options) {
-    options.fit_stream_gauge = options.keep_volume = false;
+    options.fit_stream_gauge = options.keep_volume = options.repair_folds = false;
     return options;
 }
 

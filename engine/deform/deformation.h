@@ -14,6 +14,7 @@
 
 #include "base/error.h"
 #include "curve/inner_motion.h"
+#include "deform/fold_repair.h"
 #include "deform/passes.h"
 #include "mesh/vertex_rings.h"
 
@@ -31,17 +32,19 @@ struct DeformationOptions {
     // rather than at its start as sec. 5 does (first order in time).
     bool gradients_at_midpoint = true;
     // Beyond the paper, to keep its promise on any scene (docs/method.md,
-    // "Keeping the promise"); all three false is sec. 5 as printed:
+    // "Keeping the promise"); all four false is sec. 5 as printed:
     bool fit_stream_gauge = true;    // fit the stream's gauge to the blend region every step (field/stream_gauge.h)
     bool tangent_smoothing = false;  // keep ∇r tangent while smoothing it (sec. 5) instead of smoothing it in space
     bool keep_volume = true;         // undo the scheme's volume drift after every step (deform/volume_keeper.h)
+    bool repair_folds = true;        // place a folded triangle's blend vertices again (deform/fold_repair.h)
 };
 
 // Throws InputError when an option is out of range.
 void check_options(const DeformationOptions& options);
 
 // Whether the GPU passes (engine/gpu) take every step these options ask for: they
-// mirror sec. 5 with either smoothing, not the stream gauge fit or the volume keeper.
+// mirror sec. 5 with either smoothing, not the stream gauge fit, the volume keeper
+// or the fold repair.
 bool gpu_mirrors(const DeformationOptions& options);
 // Why the GPU does not take options it does not mirror (for messages).
 extern const char* const kGpuUnmirroredReason;
@@ -88,6 +91,8 @@ public:
     // Waits until every step issued has been executed.
     virtual void finish() const {}
     virtual std::optional<DeviceVertices> device_vertices() const { return std::nullopt; }
+    // What the fold repair (deform/fold_repair.h) did so far; zero where it is off.
+    virtual FoldRepairStats fold_repairs() const { return {}; }
 };
 
 class Deformation {
@@ -118,6 +123,7 @@ public:
     const char* backend_name() const { return backend_->name(); }
     void finish() const { backend_->finish(); }
     std::optional<DeviceVertices> device_vertices() const { return backend_->device_vertices(); }
+    FoldRepairStats fold_repairs() const { return backend_->fold_repairs(); }
 
 private:
     std::unique_ptr<StepBackend> backend_;

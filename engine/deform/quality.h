@@ -35,6 +35,9 @@ DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::v
 // True when every edge of `triangles` belongs to exactly two triangles.
 bool is_closed_surface(const std::vector<Triangle>& triangles);
 
+// Triangle t's unit normal in x (0 for a degenerate triangle).
+Vec3 unit_normal(const std::vector<Vec3>& x, const Triangle& t);
+
 // The indices of the triangles count_flipped_triangles counts.
 std::vector<std::uint32_t> flipped_triangle_list(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
                                                  const std::vector<Triangle>& triangles);

@@ -170,6 +170,10 @@ void parse_options(const Reader& in, const json& j, Scene& scene) {
         if (!j["keep_volume"].is_boolean()) in.fail("keep_volume", "expected true or false");
         scene.options.keep_volume = j["keep_volume"].get<bool>();
     }
+    if (j.contains("fold_repair")) {
+        if (!j["fold_repair"].is_boolean()) in.fail("fold_repair", "expected true or false");
+        scene.options.repair_folds = j["fold_repair"].get<bool>();
+    }
     if (j.contains("target_time")) {
         scene.target_time = in.number(j["target_time"], "target_time");
         if (scene.target_time < 0.0 || scene.target_time > 1.0) in.fail("target_time", "expected a time in [0, 1]");
@@ -285,6 +289,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
     j["stream_gauge"] = scene.options.fit_stream_gauge ? "fit" : "paper";
     j["smoothing"] = scene.options.tangent_smoothing ? "tangent" : "space";
     j["keep_volume"] = scene.options.keep_volume;
+    j["fold_repair"] = scene.options.repair_folds;
     j["target_time"] = scene.target_time;
     j["up"] = std::string(1, scene.up_axis);
     return j;
@@ -305,6 +310,7 @@ const std::vector<SceneKey>& scene_keys() {
         {"stream_gauge", "\"fit\" (a gauge fitted to the blend region every step) or \"paper\"", "\"fit\""},
         {"smoothing", "\"space\" (the gradient smoothed as a vector) or \"tangent\" (as sec. 5)", "\"space\""},
         {"keep_volume", "true: the blend region's volume drift undone every step; false: as sec. 5", "true"},
+        {"fold_repair", "true: a folded triangle's blend vertices placed again every step; false: as sec. 5", "true"},
         {"steps", "RK4 steps from t = 0 to 1", "250"},
         {"smoothing_steps", "Laplacian smoothing steps on the gradient per integration step", "10"},
         {"target_time", "where vfsd deform stops, in [0, 1]", "1"},

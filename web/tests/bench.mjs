@@ -34,7 +34,7 @@ for (const mesh of meshes) {
       await page.evaluate((scene) => window.vfsd.loadScene(scene), {
         region: { kind: 'geodesic', seed: c[0], g_min: 0.1 * s.diagonal, g_max: 0.45 * s.diagonal },
         curve: { bezier: c }, steps: 250, smoothing_steps: 10, target_time: 0,  // at rest until runTo
-        stream_gauge: 'paper', keep_volume: false,
+        stream_gauge: 'paper', keep_volume: false, fold_repair: false,
       });
       const t0 = Date.now();
       const stats = await page.evaluate(() => window.vfsd.runTo(1));

@@ -23,6 +23,7 @@ try {
   // Sec. 5 as printed (no volume keeper): a volume error the panel's three decimals show.
   scene.stream_gauge = 'paper';
   scene.keep_volume = false;
+  scene.fold_repair = false;
   const json = (s) => Buffer.from(JSON.stringify(s));
   check((await state()).target_time === 0, 'the default scene waits at rest');
 

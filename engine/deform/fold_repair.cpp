@@ -1,0 +1,211 @@
+#include "deform/fold_repair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+
+#include "base/parallel.h"
+#include "base/rigid_fit.h"
+
+namespace vfsd {
+namespace {
+
+constexpr int kRounds = 20;               // rounds per step: half ring fits, half patch fits
+constexpr int kRingIterations = 3;        // Jacobi iterations of the ring fits per round
+constexpr int kHarmonicIterations = 200;  // Gauss–Seidel iterations of a patch's residual, at most
+constexpr double kRegularisation = 1.0;   // of the affine fit toward the rotation, per mean squared radius
+
+// The affine map y ↦ to_centre + a (y − from_centre) that best takes `from` to
+// `to`, regularised toward their best rotation R:
+// Σ |a pᵢ − qᵢ|² + λ |a − R|² → min, pᵢ and qᵢ the points about their centres,
+// λ = kRegularisation · mean |pᵢ|². A ring or a patch boundary is nearly flat, so
+// its own points leave a's action on the normal free; R fills it in.
+struct AffineFit {
+    Vec3 from_centre{0.0}, to_centre{0.0};
+    glm::dmat3 a{1.0};
+    Vec3 apply(const Vec3& y) const { return to_centre + a * (y - from_centre); }
+};
+
+AffineFit fit_affine(const std::vector<Vec3>& from, const std::vector<Vec3>& to) {
+    AffineFit f;
+    for (std::size_t i = 0; i < from.size(); ++i) f.from_centre += from[i], f.to_centre += to[i];
+    f.from_centre /= double(from.size()), f.to_centre /= double(from.size());
+    const glm::dmat3 rotation = fit_rigid(from, to).rotation;
+    glm::dmat3 qp(0.0), pp(0.0);
+    double radius2 = 0.0;
+    for (std::size_t i = 0; i < from.size(); ++i) {
+        const Vec3 p = from[i] - f.from_centre, q = to[i] - f.to_centre;
+        qp += glm::outerProduct(q, p), pp += glm::outerProduct(p, p), radius2 += glm::dot(p, p);
+    }
+    const double lambda = kRegularisation * radius2 / double(from.size());
+    if (!(lambda > 0.0)) return f;
+    f.a = (qp + lambda * rotation) * glm::inverse(pp + lambda * glm::dmat3(1.0));
+    return f;
+}
+
+}  // namespace
+
+FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings)
+    : rest_(rest) {
+    const auto n = static_cast<std::uint32_t>(rings.vertex_count());
+    movable_.resize(n);
+    for (std::uint32_t v = 0; v < n; ++v) movable_[v] = s[v] > 0.0 && s[v] < 1.0;
+    std::vector<Triangle> all;
+    for (std::uint32_t v = 0; v < n; ++v)
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+            const std::uint32_t a = rings.neighbours[k], b = rings.neighbours[rings.next(v, k)];
+            if (rings.wedge[k] && v < a && v < b) all.push_back(Triangle(v, a, b));  // each once
+        }
+    const TriangleNeighbours neighbours = triangle_neighbours(all);
+    // Checked: the triangles with a blend corner and their edge neighbours (whose
+    // mean normal a turned blend triangle can reverse); needed: those and theirs.
+    std::vector<std::uint8_t> level(all.size(), 0);  // 3 blend corner, 2 checked, 1 needed
+    for (std::size_t t = 0; t < all.size(); ++t)
+        if (movable_[all[t][0]] || movable_[all[t][1]] || movable_[all[t][2]]) level[t] = 3;
+    for (std::uint8_t lower : {2, 1})
+        for (std::size_t t = 0; t < all.size(); ++t)
+            if (level[t] > lower)
+                for (std::uint32_t k = neighbours.offsets[t]; k < neighbours.offsets[t + 1]; ++k)
+                    level[neighbours.list[k]] = std::max(level[neighbours.list[k]], lower);
+    std::vector<std::uint32_t> local(all.size(), 0);
+    for (std::size_t t = 0; t < all.size(); ++t)
+        if (level[t] > 0) local[t] = static_cast<std::uint32_t>(triangles_.size()), triangles_.push_back(all[t]);
+    neighbour_offsets_.push_back(0);
+    for (std::size_t t = 0; t < all.size(); ++t) {
+        if (level[t] < 2) continue;
+        check_.push_back(local[t]);
+        for (std::uint32_t k = neighbours.offsets[t]; k < neighbours.offsets[t + 1]; ++k)
+            neighbours_.push_back(local[neighbours.list[k]]);
+        neighbour_offsets_.push_back(static_cast<std::uint32_t>(neighbours_.size()));
+    }
+    mark_.assign(n, 0);
+    against_at_rest_.assign(check_.size(), 0);
+    for (const std::uint32_t t : folded(rest_)) against_at_rest_[t] = 1;
+}
+
+// The check_ entries (positions in check_) whose triangle faces against the mean
+// normal of its edge neighbours in x and did not at rest.
+std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x) {
+    normals_.resize(triangles_.size());
+    parallel_for(triangles_.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, triangles_[t]);
+    });
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t i = 0; i < check_.size(); ++i) {
+        if (against_at_rest_[i]) continue;
+        Vec3 mean(0.0);
+        for (std::uint32_t k = neighbour_offsets_[i]; k < neighbour_offsets_[i + 1]; ++k)
+            mean += normals_[neighbours_[k]];
+        if (neighbour_offsets_[i] < neighbour_offsets_[i + 1] && glm::dot(normals_[check_[i]], mean) < 0.0)
+            out.push_back(i);
+    }
+    return out;
+}
+
+// The blend corners of the folded triangles and the blend vertices up to
+// `rings_out` rings around them, marked in mark_.
+std::vector<std::uint32_t> FoldRepair::vertices_to_move(const std::vector<std::uint32_t>& folded, int rings_out,
+                                                        const VertexRings& rings) {
+    std::vector<std::uint32_t> out;
+    const auto take = [&](std::uint32_t v) {
+        if (movable_[v] && !mark_[v]) mark_[v] = 1, out.push_back(v);
+    };
+    for (const std::uint32_t i : folded)
+        for (int c = 0; c < 3; ++c) take(triangles_[check_[i]][c]);
+    for (int r = 0; r < rings_out; ++r) {
+        const std::size_t count = out.size();
+        for (std::size_t i = 0; i < count; ++i)
+            for (std::uint32_t k = rings.begin(out[i]); k < rings.end(out[i]); ++k) take(rings.neighbours[k]);
+    }
+    return out;
+}
+
+// Step 1: every vertex halfway toward its ring's affine image of its rest position.
+void FoldRepair::refit_rings(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x,
+                             const VertexRings& rings) const {
+    std::vector<Vec3> from, to, moved(vertices.size());
+    for (int iteration = 0; iteration < kRingIterations; ++iteration) {
+        for (std::size_t i = 0; i < vertices.size(); ++i) {
+            const std::uint32_t v = vertices[i];
+            from.clear(), to.clear();
+            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
+                from.push_back(rest_[rings.neighbours[k]]), to.push_back(x[rings.neighbours[k]]);
+            moved[i] = x[v] + 0.5 * (fit_affine(from, to).apply(rest_[v]) - x[v]);
+        }
+        for (std::size_t i = 0; i < vertices.size(); ++i) x[vertices[i]] = moved[i];
+    }
+}
+
+// Step 2: per connected patch of marked vertices, the affine map fitted to the
+// patch's boundary plus the harmonic interpolant of the boundary's residuals.
+void FoldRepair::refit_patches(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x,
+                               const VertexRings& rings) {
+    std::vector<std::uint8_t> seen(x.size(), 0);
+    for (const std::uint32_t seed : vertices) {
+        if (seen[seed]) continue;
+        std::vector<std::uint32_t> patch{seed}, boundary;
+        seen[seed] = 1;
+        for (std::size_t i = 0; i < patch.size(); ++i)
+            for (std::uint32_t k = rings.begin(patch[i]); k < rings.end(patch[i]); ++k) {
+                const std::uint32_t y = rings.neighbours[k];
+                if (seen[y]) continue;
+                seen[y] = 1;
+                (mark_[y] ? patch : boundary).push_back(y);
+            }
+        for (const std::uint32_t b : boundary) seen[b] = 0;  // a boundary vertex may border another patch
+        std::vector<Vec3> from, to;
+        for (const std::uint32_t b : boundary) from.push_back(rest_[b]), to.push_back(x[b]);
+        if (from.empty()) continue;
+        const AffineFit fit = fit_affine(from, to);
+        double size2 = 0.0;
+        for (const Vec3& p : from) size2 += glm::dot(p - fit.from_centre, p - fit.from_centre);
+        const double tolerance = 1e-12 * std::sqrt(size2 / double(from.size()));
+        for (const std::uint32_t v : patch) x[v] = fit.apply(rest_[v]);
+        for (int iteration = 0; iteration < kHarmonicIterations; ++iteration) {
+            double change = 0.0;
+            for (const std::uint32_t v : patch) {
+                Vec3 residual(0.0);  // the ring's mean of x − A(rest)
+                for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+                    const std::uint32_t y = rings.neighbours[k];
+                    residual += x[y] - fit.apply(rest_[y]);
+                }
+                const Vec3 next = fit.apply(rest_[v]) + residual / double(rings.end(v) - rings.begin(v));
+                change = std::max(change, glm::length(next - x[v]));
+                x[v] = next;
+            }
+            if (change <= tolerance) break;
+        }
+    }
+}
+
+std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings) {
+    if (!active()) return 0;
+    std::vector<std::uint32_t> bad = folded(x);
+    if (bad.empty()) return 0;
+    ++stats_.steps_repaired;
+    std::unordered_map<std::uint32_t, Vec3> before;  // each moved vertex's position before the repair
+    for (int round = 0; round < kRounds && !bad.empty(); ++round) {
+        const std::vector<std::uint32_t> vertices = vertices_to_move(bad, 1 + round / 3, rings);
+        for (const std::uint32_t v : vertices) before.emplace(v, x[v]);
+        stats_.vertex_moves += vertices.size();
+        if (round < kRounds / 2)
+            refit_rings(vertices, x, rings);
+        else
+            refit_patches(vertices, x, rings);
+        for (const std::uint32_t v : vertices) mark_[v] = 0;
+        bad = folded(x);
+    }
+    for (const auto& [v, p] : before) stats_.max_shift = std::max(stats_.max_shift, glm::length(x[v] - p));
+    return bad.size();
+}
+
+std::size_t FoldRepair::bytes() const {
+    return rest_.capacity() * sizeof(Vec3) + movable_.capacity() + triangles_.capacity() * sizeof(Triangle) +
+           (check_.capacity() + neighbour_offsets_.capacity() + neighbours_.capacity()) * sizeof(std::uint32_t) +
+           against_at_rest_.capacity() + normals_.capacity() * sizeof(Vec3) + mark_.capacity();
+}
+
+}  // namespace vfsd

@@ -1,0 +1,110 @@
+// The fold repair (deform/fold_repair.h): it leaves a mesh with no folds as it
+// is, untangles a fan the map turned over, puts a vertex back where the map of
+// its neighbours takes it, and moves only blend vertices.
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "deform/fold_repair.h"
+#include "deform/quality.h"
+#include "mesh/builtin_meshes.h"
+
+using namespace vfsd;
+
+namespace {
+
+// A random map x ↦ A x + t with A a rotation times a stretch of 0.5–2 along
+// random axes: what a smooth field does to a small neighbourhood.
+struct RandomAffine {
+    glm::dmat3 a{1.0};
+    Vec3 t{0.0};
+    Vec3 operator()(const Vec3& x) const { return a * x + t; }
+};
+
+RandomAffine random_affine(std::mt19937& random) {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), stretch(0.5, 2.0);
+    const auto axis = [&] { return glm::normalize(Vec3(unit(random), unit(random), unit(random)) + Vec3(1e-9)); };
+    const glm::dmat3 turn(glm::rotate(glm::dmat4(1.0), 3.0 * unit(random), axis()));
+    const glm::dmat3 frame(glm::rotate(glm::dmat4(1.0), 3.0 * unit(random), axis()));
+    const glm::dmat3 scale(glm::scale(glm::dmat4(1.0), Vec3(stretch(random), stretch(random), stretch(random))));
+    return {turn * frame * scale * glm::transpose(frame), 5.0 * Vec3(unit(random), unit(random), unit(random))};
+}
+
+std::vector<Vec3> mapped(const std::vector<Vec3>& x, const RandomAffine& map) {
+    std::vector<Vec3> out;
+    for (const Vec3& p : x) out.push_back(map(p));
+    return out;
+}
+
+// A neighbour of v on the sphere.
+std::uint32_t neighbour_of(const VertexRings& rings, std::uint32_t v) { return rings.neighbours[rings.begin(v)]; }
+
+}  // namespace
+
+TEST_CASE("the fold repair leaves a mesh the map did not fold bit for bit", "[deform][repair]") {
+    const TriangleMesh sphere = make_builtin_mesh("sphere", 3);
+    const VertexRings rings = build_vertex_rings(sphere);
+    const std::vector<double> s(sphere.positions.size(), 0.5);
+    FoldRepair repair(sphere.positions, s, rings);
+    REQUIRE(repair.active());
+    std::mt19937 random(3);
+    for (int trial = 0; trial < 10; ++trial) {
+        std::vector<Vec3> x = mapped(sphere.positions, random_affine(random));
+        const std::vector<Vec3> before = x;
+        CHECK(repair.repair(x, rings) == 0);
+        CHECK(x == before);
+    }
+    CHECK(repair.stats().steps_repaired == 0);
+    CHECK(repair.stats().vertex_moves == 0);
+}
+
+TEST_CASE("the fold repair untangles a vertex pushed through its neighbour and puts it near the map's image",
+          "[deform][repair]") {
+    const TriangleMesh sphere = make_builtin_mesh("sphere", 3);
+    const VertexRings rings = build_vertex_rings(sphere);
+    const std::vector<double> s(sphere.positions.size(), 0.5);
+    std::mt19937 random(11);
+    std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(sphere.positions.size() - 1));
+    for (int trial = 0; trial < 20; ++trial) {
+        FoldRepair repair(sphere.positions, s, rings);
+        const RandomAffine map = random_affine(random);
+        std::vector<Vec3> x = mapped(sphere.positions, map);
+        // Slide v past a neighbour, beyond it: its fan turns over.
+        const std::uint32_t v = pick(random), a = neighbour_of(rings, v);
+        x[v] = x[a] + 0.7 * (x[a] - x[v]);
+        const double pushed = glm::length(x[v] - map(sphere.positions[v]));
+        REQUIRE(!flipped_triangle_list(mapped(sphere.positions, map), x, sphere.triangles).empty());
+        CHECK(repair.repair(x, rings) == 0);
+        CHECK(flipped_triangle_list(mapped(sphere.positions, map), x, sphere.triangles).empty());
+        CHECK(repair.stats().steps_repaired == 1);
+        CHECK(repair.stats().max_shift > 0.0);
+        // The ring fits reproduce an affine map: v ends far nearer its image than it was pushed.
+        CHECK(glm::length(x[v] - map(sphere.positions[v])) < 0.25 * pushed);
+    }
+}
+
+TEST_CASE("the fold repair moves only blend vertices", "[deform][repair]") {
+    const TriangleMesh sphere = make_builtin_mesh("sphere", 3);
+    const VertexRings rings = build_vertex_rings(sphere);
+    std::mt19937 random(5);
+    std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(sphere.positions.size() - 1));
+    for (int trial = 0; trial < 10; ++trial) {
+        // s = 0 below a random height, 1 above another, blended between.
+        std::vector<double> s;
+        for (const Vec3& p : sphere.positions) s.push_back(glm::clamp((p.z + 0.3) / 0.6, 0.0, 1.0));
+        FoldRepair repair(sphere.positions, s, rings);
+        std::vector<Vec3> x = sphere.positions;
+        std::uint32_t v = pick(random);
+        while (!(s[v] > 0.0 && s[v] < 1.0)) v = pick(random);
+        const std::uint32_t a = neighbour_of(rings, v);
+        x[v] = x[a] + 0.7 * (x[a] - x[v]);
+        const std::vector<Vec3> before = x;
+        repair.repair(x, rings);
+        for (std::size_t u = 0; u < x.size(); ++u)
+            if (s[u] == 0.0 || s[u] == 1.0) CHECK(x[u] == before[u]);
+        CHECK(x[v] != before[v]);
+    }
+}
