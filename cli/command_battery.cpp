@@ -193,7 +193,8 @@ int run_battery(const Args& args) {
     const int worst = positive_int(args, "worst", 5), steps = positive_int(args, "steps", 0);
     const double amplitude = args.get_number("amplitude", 1.0);
     const std::string scheme = args.get("scheme", "default");
-    if (scheme != "default" && scheme != "paper") throw UsageError("--scheme must be 'default' or 'paper'");
+    if (scheme != "default" && scheme != "paper" && scheme != "repair")
+        throw UsageError("--scheme must be 'default', 'paper' or 'repair'");
     if (!(amplitude > 0.0 && amplitude <= 1.0)) throw UsageError("--amplitude expects a number in (0, 1]");
     if (args.has("threads")) set_parallel_thread_limit(std::max(1, positive_int(args, "threads", 0)));
     std::vector<std::string> sources =
@@ -212,6 +213,7 @@ int run_battery(const Args& args) {
             b.scene.options = gpu_mirrored(b.scene.options);
             b.scene.options.tangent_smoothing = true;
         }
+        if (scheme == "repair") b.scene.options.repair_folds = true;  // the default and the fold repair
         outcomes.push_back(run_scene(std::move(b)));
         const Outcome& o = outcomes.back();
         std::printf(

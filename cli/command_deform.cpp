@@ -19,9 +19,10 @@
 #include "base/parallel.h"
 #include "cli/commands.h"
 #include "deform/quality.h"
-#include "io/mesh_file.h"
 #include "gpu/context.h"
 #include "gpu/gpu_deformation.h"
+#include "io/mesh_file.h"
+#include "mesh/geometry.h"
 #include "scene/prepared_scene.h"
 
 namespace vfsd::cli {
@@ -88,6 +89,7 @@ nlohmann::json describe_folds(const PreparedScene& p, const std::vector<Vec3>& a
 
 nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const DeformationQuality& q,
                            double total_ms) {
+    const FoldRepairStats repairs = d.fold_repairs();
     return {{"vertices", p.file.mesh.vertex_count()},
             {"triangles", p.file.mesh.triangle_count()},
             {"steps", d.step_milliseconds().size()},
@@ -107,6 +109,9 @@ nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const D
             {"outer_vertices", q.outer_vertices},
             {"flipped_triangles", q.flipped_triangles},
             {"nonfinite_vertices", q.nonfinite_vertices},
+            // deform/fold_repair.h: steps after which it placed vertices again, and its largest move
+            {"fold_repair_steps", repairs.steps_repaired},
+            {"fold_repair_max_shift_over_diagonal", repairs.max_shift / bounding_box(p.file.mesh.positions).diagonal()},
             {"warnings", p.warnings}};
 }
 

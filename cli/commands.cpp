@@ -78,7 +78,7 @@ const std::vector<Command>& commands() {
         {"battery", "deform generated scenes nobody tuned and measure folds, volume, rigidity",
          "usage: vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR | --mesh SPEC] [--coarse]\n"
          "                   [--worst K] [--steps N] [--threads N] [--only INDEX] [--amplitude A]\n"
-         "                   [--scheme default|paper]\n"
+         "                   [--scheme default|paper|repair]\n"
          "\n"
          "Generates K scenes (default 30) from seed N (default 1): the built-in meshes at a\n"
          "coarse and a fine resolution (--coarse: coarse only) and every mesh file in\n"
@@ -89,7 +89,8 @@ const std::vector<Command>& commands() {
          "rotation and translation (--amplitude A in (0, 1] scales bends, twists, turns and\n"
          "moves down). Each is deformed on the CPU (--steps overrides the 250\n"
          "steps; --scheme paper runs sec. 5 as printed: \"stream_gauge\": \"paper\",\n"
-         "\"smoothing\": \"tangent\", \"keep_volume\": false, \"fold_repair\": false); per scene: flipped\n"
+         "\"smoothing\": \"tangent\", \"keep_volume\": false, \"fold_repair\": false; --scheme repair the\n"
+         "default with \"fold_repair\": true); per scene: flipped\n"
          "triangles and when the first appeared, volume error and change, outer\n"
          "displacement, inner rigid residual, ms/step, the vertices the fold repair placed\n"
          "again and how far. Writes DIR/battery.json,\n"

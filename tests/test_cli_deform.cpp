@@ -115,6 +115,19 @@ TEST_CASE("vfsd deform says when triangles fold, how many, from when and where",
     CHECK(folds["triangles"].get<std::vector<std::uint32_t>>() ==
           flipped_triangle_list(box.mesh.positions, written.mesh.positions, box.mesh.triangles));
     CHECK(test::read_bytes(dir.file("stderr.txt")).find("triangles folded (first seen after step") != std::string::npos);
+    CHECK(report["fold_repair_steps"] == 0);
+
+    // The same scene with the fold repair: nothing folds, and the report says how
+    // often and how far the repair moved vertices.
+    scene["fold_repair"] = true;
+    write_bytes(dir.file("repaired.json"), scene.dump());
+    REQUIRE(deform(dir, "'" + dir.file("repaired.json") + "' --out '" + dir.file("repaired.ply") + "' --report '" +
+                            dir.file("repaired-report.json") + "'") == 0);
+    const nlohmann::json repaired = nlohmann::json::parse(std::ifstream(dir.file("repaired-report.json")));
+    CHECK(repaired["flipped_triangles"] == 0);
+    CHECK_FALSE(repaired.contains("folds"));
+    CHECK(repaired["fold_repair_steps"].get<int>() > 0);
+    CHECK(repaired["fold_repair_max_shift_over_diagonal"].get<double>() > 0.0);
 
     // A scene that folds nothing says nothing of folds.
     REQUIRE(deform(dir, "'" + cube_scene(dir) + "' --out '" + dir.file("cube.obj") + "' --report '" +

@@ -14,9 +14,18 @@ namespace vfsd {
 namespace {
 
 constexpr int kRounds = 20;               // rounds per step: half ring fits, half patch fits
-constexpr int kRingIterations = 3;        // Jacobi iterations of the ring fits per round
+constexpr int kRingIterations = 3;        // Jacobi iterations of the ring fits per round, each a half step
 constexpr int kHarmonicIterations = 200;  // Gauss–Seidel iterations of a patch's residual, at most
 constexpr double kRegularisation = 1.0;   // of the affine fit toward the rotation, per mean squared radius
+constexpr int kGrowth = 3;                // rings around the folded triangles' corners, at most
+constexpr double kReach = 1.0;            // the most a vertex moves in a step, in its ring's mean edges
+
+// The mean length of v's ring edges in x.
+double mean_edge(const std::vector<Vec3>& x, const VertexRings& rings, std::uint32_t v) {
+    double sum = 0.0;
+    for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) sum += glm::length(x[rings.neighbours[k]] - x[v]);
+    return rings.end(v) > rings.begin(v) ? sum / double(rings.end(v) - rings.begin(v)) : 0.0;
+}
 
 // The affine map y ↦ to_centre + a (y − from_centre) that best takes `from` to
 // `to`, regularised toward their best rotation R:
@@ -186,19 +195,31 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings) {
     std::vector<std::uint32_t> bad = folded(x);
     if (bad.empty()) return 0;
     ++stats_.steps_repaired;
-    std::unordered_map<std::uint32_t, Vec3> before;  // each moved vertex's position before the repair
+    struct Start {
+        Vec3 position;
+        double reach;  // how far the repair may move the vertex: kReach of its ring's mean edge
+    };
+    std::unordered_map<std::uint32_t, Start> start;
     for (int round = 0; round < kRounds && !bad.empty(); ++round) {
-        const std::vector<std::uint32_t> vertices = vertices_to_move(bad, 1 + round / 3, rings);
-        for (const std::uint32_t v : vertices) before.emplace(v, x[v]);
+        const std::vector<std::uint32_t> vertices = vertices_to_move(bad, std::min(kGrowth, 1 + round / 3), rings);
+        for (const std::uint32_t v : vertices) start.emplace(v, Start{x[v], kReach * mean_edge(x, rings, v)});
         stats_.vertex_moves += vertices.size();
         if (round < kRounds / 2)
             refit_rings(vertices, x, rings);
         else
             refit_patches(vertices, x, rings);
-        for (const std::uint32_t v : vertices) mark_[v] = 0;
+        for (const std::uint32_t v : vertices) {
+            mark_[v] = 0;
+            const Start& s = start.at(v);
+            const Vec3 move = x[v] - s.position;
+            const double length = glm::length(move);
+            if (length > s.reach) x[v] = s.position + (s.reach / length) * move;
+        }
         bad = folded(x);
     }
-    for (const auto& [v, p] : before) stats_.max_shift = std::max(stats_.max_shift, glm::length(x[v] - p));
+    double shift = 0.0;
+    for (const auto& [v, s] : start) shift = std::max(shift, glm::length(x[v] - s.position));
+    stats_.max_shift = std::max(stats_.max_shift, shift);
     return bad.size();
 }
 

@@ -310,7 +310,7 @@ const std::vector<SceneKey>& scene_keys() {
         {"stream_gauge", "\"fit\" (a gauge fitted to the blend region every step) or \"paper\"", "\"fit\""},
         {"smoothing", "\"space\" (the gradient smoothed as a vector) or \"tangent\" (as sec. 5)", "\"space\""},
         {"keep_volume", "true: the blend region's volume drift undone every step; false: as sec. 5", "true"},
-        {"fold_repair", "true: a folded triangle's blend vertices placed again every step; false: as sec. 5", "true"},
+        {"fold_repair", "true: a folded triangle's blend vertices placed again every step; false: as sec. 5", "false"},
         {"steps", "RK4 steps from t = 0 to 1", "250"},
         {"smoothing_steps", "Laplacian smoothing steps on the gradient per integration step", "10"},
         {"target_time", "where vfsd deform stops, in [0, 1]", "1"},

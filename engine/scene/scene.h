@@ -16,7 +16,7 @@
 //   "stream_origin": "curve" | [x,y,z],               // where e, f are built about (default c(t))
 //   "steps": 250, "smoothing_steps": 10, "target_time": 1.0,
 //   "stream_gauge": "fit" | "paper",                  // beyond the paper (docs/method.md): defaults
-//   "smoothing": "space" | "tangent",                 //   fit, space, true, true; "paper",
+//   "smoothing": "space" | "tangent",                 //   fit, space, true, false; "paper",
 //   "keep_volume": true | false,                      //   "tangent", false, false is sec. 5
 //   "fold_repair": true | false }                     //   as printed
 
