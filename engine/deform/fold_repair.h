@@ -17,9 +17,12 @@
 //    which keeps the rest shape's detail turned and stretched as A does.
 //
 // Each round takes the folded triangles' blend corners and the blend vertices
-// up to 1 + round / 3 rings around them. Only blend vertices move: the outer
-// region stays exactly put and the inner region rigid. The repaired vertices
-// leave their path lines by the repair's shift, which the stats report.
+// up to min(3, 1 + round / 3) rings around them; no vertex moves further than its
+// ring's mean edge in one step. Only blend vertices move: the outer region stays
+// exactly put and the inner region rigid. The repaired vertices leave their path
+// lines for good (nothing brings them back), by the shifts the stats report;
+// that can dent a shape the flow would have untangled by itself, so the repair
+// is off unless a scene asks for it (docs/method.md, "The fold repair").
 
 #include <cstdint>
 #include <vector>
