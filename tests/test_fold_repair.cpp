@@ -1,6 +1,7 @@
 // The fold repair (deform/fold_repair.h): it leaves a mesh with no folds as it
 // is, untangles a fan the map turned over, puts a vertex back where the map of
-// its neighbours takes it, and moves only blend vertices.
+// its neighbours takes it, moves only blend vertices, and a scene it repairs
+// gives the placed result wherever it is placed.
 #include <catch2/catch.hpp>
 
 #include <random>
@@ -10,7 +11,12 @@
 
 #include "deform/fold_repair.h"
 #include "deform/quality.h"
+#include "io/mesh_file.h"
 #include "mesh/builtin_meshes.h"
+#include "mesh/geometry.h"
+#include "scene/prepared_scene.h"
+#include "scene/scene_transform.h"
+#include "test_fold_support.h"
 
 using namespace vfsd;
 
@@ -106,5 +112,39 @@ TEST_CASE("the fold repair moves only blend vertices", "[deform][repair]") {
         for (std::size_t u = 0; u < x.size(); ++u)
             if (s[u] == 0.0 || s[u] == 1.0) CHECK(x[u] == before[u]);
         CHECK(x[v] != before[v]);
+    }
+}
+
+TEST_CASE("a scene the fold repair acts on, turned, moved far away or mirrored, deforms into the placed result",
+          "[deform][repair][invariance]") {
+    Scene scene = test::folding_box_scene();  // folds without the repair
+    scene.options.repair_folds = true;
+    const MeshFile file = load_mesh_file("builtin:box");
+    const auto deform = [](const Scene& sc, MeshFile f, FoldRepairStats& stats) {
+        const PreparedScene prepared = prepare_scene(sc, std::move(f));
+        Deformation d = prepared.start_deformation();
+        d.advance(1.0);
+        stats = d.fold_repairs();
+        CHECK(count_flipped_triangles(prepared.file.mesh.positions, d.positions(), prepared.file.mesh.triangles) == 0);
+        return d.positions();
+    };
+    FoldRepairStats stats;
+    const std::vector<Vec3> result = deform(scene, file, stats);
+    REQUIRE(stats.steps_repaired > 0);  // the repair acts on this scene
+    for (const bool mirror : {false, true}) {
+        Placement placement;
+        placement.rotation = glm::dmat3(glm::rotate(glm::dmat4(1.0), 2.1, glm::normalize(Vec3(0.3, -0.8, 0.5))));
+        if (mirror) placement.rotation = placement.rotation * glm::dmat3(-1, 0, 0, 0, 1, 0, 0, 0, 1);
+        placement.offset = Vec3(-120.0, 95.0, 140.0);  // about 100 diagonals from the origin
+        MeshFile placed = file;
+        place_mesh(placed.mesh, placement);
+        FoldRepairStats placed_stats;
+        const std::vector<Vec3> placed_result = deform(place_scene(scene, placement), placed, placed_stats);
+        CHECK(placed_stats.steps_repaired == stats.steps_repaired);
+        double worst = 0.0;
+        for (std::size_t v = 0; v < result.size(); ++v)
+            worst = std::max(worst, glm::length(placement.point(result[v]) - placed_result[v]));
+        INFO("mirrored: " << mirror);
+        CHECK(worst / bounding_box(placed.mesh.positions).diagonal() < 1e-6);
     }
 }
