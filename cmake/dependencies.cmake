@@ -1,6 +1,7 @@
 # Third-party libraries, all from Debian's packages (scripts/install-deps).
 # vfsd::thirdparty carries the header-only libraries the engine uses:
-# GLM (vector and matrix types), nlohmann/json (scene files) and tinygltf with
+# GLM (vector and matrix types), nlohmann/json (scene files), Eigen (the sparse
+# solver of the harmonic blend profile, region/harmonic_blend.h) and tinygltf with
 # the stb image headers it includes. Both builds compile tinygltf's
 # implementation from source (engine/io), so Debian's libtinygltf.so is unused.
 add_library(vfsd_thirdparty INTERFACE)
@@ -11,9 +12,11 @@ if(EMSCRIPTEN)
   # path breaks libc headers: link just the header-only libraries into a folder.
   set(_hdr ${CMAKE_BINARY_DIR}/third_party_include)
   file(MAKE_DIRECTORY ${_hdr})
-  foreach(_p glm nlohmann tiny_gltf.h stb_image.h stb_image_write.h)
+  foreach(_p glm nlohmann Eigen tiny_gltf.h stb_image.h stb_image_write.h)
     if(EXISTS /usr/include/${_p})
       file(CREATE_LINK /usr/include/${_p} ${_hdr}/${_p} SYMBOLIC)
+    elseif(EXISTS /usr/include/eigen3/${_p})
+      file(CREATE_LINK /usr/include/eigen3/${_p} ${_hdr}/${_p} SYMBOLIC)
     elseif(EXISTS /usr/include/stb/${_p})
       file(CREATE_LINK /usr/include/stb/${_p} ${_hdr}/${_p} SYMBOLIC)
     else()
@@ -25,7 +28,8 @@ else()
   find_package(glm REQUIRED)
   find_package(nlohmann_json REQUIRED)
   find_package(Threads REQUIRED)
-  target_link_libraries(vfsd_thirdparty INTERFACE glm::glm nlohmann_json::nlohmann_json Threads::Threads)
+  find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+  target_link_libraries(vfsd_thirdparty INTERFACE glm::glm nlohmann_json::nlohmann_json Eigen3::Eigen Threads::Threads)
   target_include_directories(vfsd_thirdparty SYSTEM INTERFACE /usr/include/stb)
 endif()
 

@@ -90,6 +90,7 @@ TEST_CASE("vfsd deform says when triangles fold, how many, from when and where",
     // neighbours in the written mesh; stderr says so.
     nlohmann::json scene = nlohmann::json::parse(std::ifstream(std::string(VFSD_SOURCE_DIR) +
                                                                "/assets/scenes/fig05-box-bend-twist.json"));
+    scene["region"]["profile"] = "geodesic";
     scene.update({{"twist_degrees", {0, 180}},
                   {"stream_gauge", "paper"},
                   {"smoothing", "tangent"},

@@ -17,6 +17,7 @@ inline Scene folding_box_scene() {
     scene.options.tangent_smoothing = true;
     scene.options.smoothing_steps = 0;
     scene.options.steps = 40;
+    scene.region.profile = RegionSpec::Profile::geodesic;  // eq. (16) as printed too
     return scene;
 }
 

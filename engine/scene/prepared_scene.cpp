@@ -6,6 +6,7 @@
 #include "base/error.h"
 #include "deform/local_frame.h"
 #include "field/vector_field.h"
+#include "region/harmonic_blend.h"
 #include "region/region_field.h"
 
 namespace vfsd {
@@ -103,6 +104,11 @@ Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, 
             region.s = spec.s;
             break;
     }
+    // Eqs. (15) and (16) give the inner and outer regions; between them s is the
+    // harmonic interpolation unless the scene asks for the geodesic profile.
+    const bool painted_or_geodesic = spec.kind == RegionSpec::Kind::painted || spec.kind == RegionSpec::Kind::geodesic;
+    if (painted_or_geodesic && spec.profile == RegionSpec::Profile::harmonic)
+        region.s = harmonic_blend(positions, rings, std::move(region.s));
     warn_about_region(region, warnings);
     return region;
 }

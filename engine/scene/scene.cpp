@@ -88,6 +88,12 @@ RegionSpec parse_region(const Reader& in, const json& j) {
     }
     if (j.contains("smoothing_iterations"))
         r.geodesic.smoothing_iterations = in.integer(j["smoothing_iterations"], "region.smoothing_iterations", 0, 1000);
+    if (j.contains("profile")) {
+        const std::string profile = in.string(j["profile"], "region.profile");
+        if (profile == "harmonic") r.profile = RegionSpec::Profile::harmonic;
+        else if (profile == "geodesic") r.profile = RegionSpec::Profile::geodesic;
+        else in.fail("region.profile", "expected \"harmonic\" or \"geodesic\", got \"" + profile + "\"");
+    }
     return r;
 }
 
@@ -268,8 +274,10 @@ nlohmann::json scene_to_json(const Scene& scene) {
     nlohmann::json j;
     j["mesh"] = scene.mesh;
     j["region"] = region_json(scene.region);
-    if (scene.region.kind == RegionSpec::Kind::painted || scene.region.kind == RegionSpec::Kind::geodesic)
+    if (scene.region.kind == RegionSpec::Kind::painted || scene.region.kind == RegionSpec::Kind::geodesic) {
         j["region"]["smoothing_iterations"] = scene.region.geodesic.smoothing_iterations;
+        j["region"]["profile"] = scene.region.profile == RegionSpec::Profile::harmonic ? "harmonic" : "geodesic";
+    }
     const MotionSpec& m = scene.motion;
     if (m.curve.is_handle) {
         j["curve"] = {{"handle", {{"from", frame_json(m.curve.from)}, {"to", frame_json(m.curve.to)}}}};
@@ -310,7 +318,7 @@ const std::vector<SceneKey>& scene_keys() {
         {"stream_gauge", "\"fit\" (a gauge fitted to the blend region every step) or \"paper\"", "\"fit\""},
         {"smoothing", "\"space\" (the gradient smoothed as a vector) or \"tangent\" (as sec. 5)", "\"space\""},
         {"keep_volume", "true: the blend region's volume drift undone every step; false: as sec. 5", "true"},
-        {"fold_repair", "true: a folded triangle's blend vertices placed again every step; false: as sec. 5", "false"},
+        {"fold_repair", "true: a folded triangle's blend vertices placed again after the step; false: as sec. 5", "true"},
         {"steps", "RK4 steps from t = 0 to 1", "250"},
         {"smoothing_steps", "Laplacian smoothing steps on the gradient per integration step", "10"},
         {"target_time", "where vfsd deform stops, in [0, 1]", "1"},

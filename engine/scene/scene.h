@@ -16,7 +16,7 @@
 //   "stream_origin": "curve" | [x,y,z],               // where e, f are built about (default c(t))
 //   "steps": 250, "smoothing_steps": 10, "target_time": 1.0,
 //   "stream_gauge": "fit" | "paper",                  // beyond the paper (docs/method.md): defaults
-//   "smoothing": "space" | "tangent",                 //   fit, space, true, false; "paper",
+//   "smoothing": "space" | "tangent",                 //   fit, space, true, true; "paper",
 //   "keep_volume": true | false,                      //   "tangent", false, false is sec. 5
 //   "fold_repair": true | false }                     //   as printed
 
@@ -34,7 +34,13 @@ namespace vfsd {
 
 struct RegionSpec {
     enum class Kind { painted, geodesic, implicit, field };
+    // How s runs across the blend region of a painted or geodesic region: the
+    // harmonic interpolation between the inner and outer regions (smooth, the
+    // default: region/harmonic_blend.h) or eqs. (15)–(16) as printed (geodesic
+    // distances, with their kinks).
+    enum class Profile { harmonic, geodesic };
     Kind kind = Kind::painted;
+    Profile profile = Profile::harmonic;
     std::vector<Selector> inner, outer;  // painted (eq. 16)
     double band = 0.0;                   // painted: the transition band where inner and outer meet
     Vec3 seed{0.0};                      // geodesic (eq. 15): nearest vertex to this point

@@ -1,0 +1,126 @@
+#include "region/harmonic_blend.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#include <glm/geometric.hpp>
+
+namespace vfsd {
+namespace {
+
+bool in_blend(double s) { return s > 0.0 && s < 1.0; }
+
+// cot of the angle at `apex` in the triangle (apex, a, b), clamped to [0, 1e3]:
+// an obtuse angle gives no weight, a degenerate triangle a bounded one.
+double clamped_cot(const Vec3& apex, const Vec3& a, const Vec3& b) {
+    Vec3 u = a - apex, v = b - apex;
+    // Scaled to about 1 first, so that the products neither overflow (a mesh
+    // 1e200 across) nor underflow (1e-200 across): the cotangent has no unit.
+    const Vec3 largest = glm::max(glm::abs(u), glm::abs(v));
+    const double size = std::max({largest.x, largest.y, largest.z});
+    if (!(size > 0.0) || !std::isfinite(size)) return 0.0;
+    u /= size, v /= size;
+    const double sine = glm::length(glm::cross(u, v)), cosine = glm::dot(u, v);
+    if (!(cosine > 0.0)) return 0.0;
+    return sine > cosine * 1e-3 ? cosine / sine : 1e3;
+}
+
+// The cotangent weight of ring entry k of vertex v: half the cotangents of the
+// angles facing the edge in the (one or two) triangles beside it.
+double edge_weight(const std::vector<Vec3>& x, const VertexRings& rings, std::uint32_t v, std::uint32_t k) {
+    const std::uint32_t a = rings.neighbours[k];
+    const std::uint32_t before = k == rings.begin(v) ? rings.end(v) - 1 : k - 1;
+    double w = 0.0;
+    if (rings.wedge[k]) w += clamped_cot(x[rings.neighbours[rings.next(v, k)]], x[v], x[a]);
+    if (rings.wedge[before]) w += clamped_cot(x[rings.neighbours[before]], x[v], x[a]);
+    return 0.5 * w;
+}
+
+// Marks the blend vertices that a path through blend vertices joins to a vertex
+// of fixed s; the others (a part of the mesh that is blend throughout) have no
+// harmonic function to take and keep their values.
+std::vector<std::uint8_t> anchored(const std::vector<double>& s, const VertexRings& rings) {
+    std::vector<std::uint8_t> reached(s.size(), 0);
+    std::vector<std::uint32_t> queue;
+    for (std::uint32_t v = 0; v < s.size(); ++v) {
+        if (in_blend(s[v])) continue;
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+            const std::uint32_t a = rings.neighbours[k];
+            if (in_blend(s[a]) && !reached[a]) reached[a] = 1, queue.push_back(a);
+        }
+    }
+    for (std::size_t i = 0; i < queue.size(); ++i)
+        for (std::uint32_t k = rings.begin(queue[i]); k < rings.end(queue[i]); ++k) {
+            const std::uint32_t a = rings.neighbours[k];
+            if (in_blend(s[a]) && !reached[a]) reached[a] = 1, queue.push_back(a);
+        }
+    return reached;
+}
+
+}  // namespace
+
+std::vector<double> harmonic_blend(const std::vector<Vec3>& positions, const VertexRings& rings,
+                                   std::vector<double> s) {
+    const std::vector<std::uint8_t> solve_at = anchored(s, rings);
+    std::vector<std::int32_t> index(s.size(), -1);
+    std::vector<std::uint32_t> unknowns;
+    for (std::uint32_t v = 0; v < s.size(); ++v)
+        if (solve_at[v]) index[v] = static_cast<std::int32_t>(unknowns.size()), unknowns.push_back(v);
+    if (unknowns.empty()) return s;
+
+    // A small multiple of the graph Laplacian keeps every row of the system
+    // positive where all of a vertex's cotangents are clamped to zero.
+    double mean_weight = 0.0;
+    std::size_t entries = 0;
+    for (const std::uint32_t v : unknowns)
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) mean_weight += edge_weight(positions, rings, v, k), ++entries;
+    const double floor_weight = 1e-10 * (entries > 0 && mean_weight > 0.0 ? mean_weight / double(entries) : 1.0);
+
+    // Σ_j w_ij (s_j − s_i) = 0 on the unknowns, the fixed neighbours' terms on the right.
+    const auto n = static_cast<Eigen::Index>(unknowns.size());
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(unknowns.size() * 7);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n), guess(n);
+    for (const std::uint32_t v : unknowns) {
+        const std::int32_t i = index[v];
+        guess[i] = s[v];
+        double diagonal = 0.0;
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+            const std::uint32_t a = rings.neighbours[k];
+            if (a == v) continue;
+            const double w = edge_weight(positions, rings, v, k) + floor_weight;
+            diagonal += w;
+            if (index[a] >= 0)
+                triplets.emplace_back(i, index[a], -w);
+            else
+                rhs[i] += w * std::clamp(s[a], 0.0, 1.0);
+        }
+        triplets.emplace_back(i, i, diagonal);
+    }
+    Eigen::SparseMatrix<double> laplacian(n, n);
+    laplacian.setFromTriplets(triplets.begin(), triplets.end());
+
+    Eigen::VectorXd x;
+    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                             Eigen::IncompleteCholesky<double>>
+        cg;
+    cg.setTolerance(1e-13);
+    cg.setMaxIterations(std::max<Eigen::Index>(1000, n));
+    cg.compute(laplacian);
+    if (cg.info() == Eigen::Success) x = cg.solveWithGuess(rhs, guess);
+    if (cg.info() != Eigen::Success) {  // a direct factorisation where the iteration does not converge
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> direct(laplacian);
+        if (direct.info() != Eigen::Success) return s;
+        x = direct.solve(rhs);
+    }
+    // Strictly inside (0, 1): a blend vertex stays a blend vertex.
+    constexpr double kInside = 1e-12;
+    for (const std::uint32_t v : unknowns)
+        if (std::isfinite(x[index[v]])) s[v] = std::clamp(x[index[v]], kInside, 1.0 - kInside);
+    return s;
+}
+
+}  // namespace vfsd

@@ -1,0 +1,35 @@
+#pragma once
+// The blend region's s as the harmonic interpolation between the inner region
+// (s = 0) and the outer region (s = 1): the default profile of the painted
+// (eq. 16) and geodesic (eq. 15) regions (docs/regions.md, "The blend profile").
+//
+// Eqs. (15) and (16) build s from geodesic distances. A distance field has a
+// kink wherever two shortest paths meet (its cut locus: across a face the paths
+// to the outer region round the head on both sides), and its discrete
+// approximation wobbles from vertex to vertex. The field differentiates s twice
+// over (∇r, then the stream term), so a kink in s is a crease in the velocity,
+// and the crease folds the surface (docs/method.md, "Keeping the promise"). The
+// harmonic function with the same inner and outer regions has no kinks: it is
+// the smoothest interpolation between them, lies in [0, 1], and keeps the
+// regions' borders where the user put them. It is solved once, on the rest
+// mesh; s stays a property of each vertex as sec. 3 says.
+//
+// The Laplacian is the cotangent one with negative weights set to zero, so that
+// the solution obeys the maximum principle on any mesh (an obtuse triangle
+// cannot push s out of [0, 1]).
+
+#include <vector>
+
+#include "mesh/vertex_rings.h"
+
+namespace vfsd {
+
+// s with the values of its blend vertices (0 < s < 1) replaced by the discrete
+// harmonic function that is 0 on the vertices with s <= 0 and 1 on those with
+// s >= 1. The given blend values start the solver, so eq. (15) or (16) makes it
+// quick. The result stays in (0, 1) on the blend vertices, so every region keeps
+// its vertices. A blend vertex with no path to a fixed vertex keeps its value.
+std::vector<double> harmonic_blend(const std::vector<Vec3>& positions, const VertexRings& rings,
+                                   std::vector<double> s);
+
+}  // namespace vfsd

@@ -1,0 +1,180 @@
+// The harmonic blend profile (region/harmonic_blend.h): the default s between the
+// inner and outer regions of painted and geodesic regions.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "mesh/geometry.h"
+#include "mesh/vertex_rings.h"
+#include "region/harmonic_blend.h"
+#include "region/region_field.h"
+#include "scene/prepared_scene.h"
+#include "test_region_meshes.h"
+
+using namespace vfsd;
+using vfsd::test::grid_mesh;
+using vfsd::test::icosphere;
+
+namespace {
+
+bool in_blend(double s) { return s > 0.0 && s < 1.0; }
+
+// Eq. (16) between a cap of the sphere (inner, z > 0.6) and its lower part (outer, z < -0.2).
+std::vector<double> sphere_caps(const TriangleMesh& m, const VertexRings& rings) {
+    std::vector<std::uint8_t> inner(m.positions.size()), outer(m.positions.size());
+    for (std::size_t v = 0; v < m.positions.size(); ++v)
+        inner[v] = m.positions[v].z > 0.6, outer[v] = m.positions[v].z < -0.2;
+    return painted_region_field(m.positions, rings, inner, outer).s;
+}
+
+// The gradient of the piecewise-linear s on triangle t.
+Vec3 triangle_gradient(const TriangleMesh& m, const std::vector<double>& s, const Triangle& t) {
+    const Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+    const Vec3 n = glm::cross(b - a, c - a);
+    const double area2 = glm::dot(n, n);
+    return (s[t[0]] * glm::cross(n, c - b) + s[t[1]] * glm::cross(n, a - c) + s[t[2]] * glm::cross(n, b - a)) / area2;
+}
+
+// The largest jump of ∇s between two triangles that share an edge, both with all
+// corners in the middle of the blend region (0.2 < s < 0.8) and beyond `radius`
+// of `away_from` (where a small region makes any s curve strongly), relative to the mean |∇s| there: a kink (two
+// slopes meeting at an angle) shows as a jump of order one.
+double largest_kink(const TriangleMesh& m, const std::vector<double>& s, const Vec3& away_from, double radius) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, Vec3> first;
+    double jump = 0.0, mean = 0.0;
+    int count = 0;
+    for (const Triangle& t : m.triangles) {
+        const auto middle = [&](std::uint32_t v) {
+            return s[v] > 0.2 && s[v] < 0.8 && glm::length(m.positions[v] - away_from) > radius;
+        };
+        if (!middle(t[0]) || !middle(t[1]) || !middle(t[2])) continue;
+        const Vec3 g = triangle_gradient(m, s, t);
+        mean += glm::length(g), ++count;
+        for (int k = 0; k < 3; ++k) {
+            const auto edge = std::minmax(t[k], t[(k + 1) % 3]);
+            const auto found = first.find(edge);
+            if (found == first.end()) first.emplace(edge, g);
+            else jump = std::max(jump, glm::length(found->second - g));
+        }
+    }
+    return count > 0 ? jump / (mean / count) : 0.0;
+}
+
+}  // namespace
+
+TEST_CASE("harmonic blend on a flat grid of right triangles is the linear ramp", "[region][harmonic]") {
+    // Right isosceles triangles: the cotangent weights are 0 and 1, none clamped,
+    // and the discrete Laplacian of a linear function vanishes exactly.
+    const TriangleMesh m = grid_mesh(20, 1.0);
+    const VertexRings rings = build_vertex_rings(m);
+    std::mt19937 random(3);
+    std::uniform_real_distribution<double> any(0.05, 0.95);
+    std::vector<double> s(m.positions.size());
+    for (std::size_t v = 0; v < s.size(); ++v) {
+        const double x = m.positions[v].x;
+        s[v] = x <= 0.2 + 1e-9 ? 0.0 : x >= 0.8 - 1e-9 ? 1.0 : any(random);  // a noisy start
+    }
+    const std::vector<double> h = harmonic_blend(m.positions, rings, s);
+    for (std::size_t v = 0; v < s.size(); ++v) {
+        INFO("vertex " << v << " at x = " << m.positions[v].x);
+        const double ramp = std::clamp((m.positions[v].x - 0.2) / 0.6, 0.0, 1.0);
+        CHECK(std::abs(h[v] - ramp) < 1e-8);
+        if (!in_blend(s[v])) CHECK(h[v] == s[v]);  // the fixed values bit for bit
+    }
+}
+
+TEST_CASE("harmonic blend keeps the regions, stays in (0, 1) and lies between its neighbours", "[region][harmonic]") {
+    const TriangleMesh m = icosphere(3, 1.0);
+    const VertexRings rings = build_vertex_rings(m);
+    const std::vector<double> s = sphere_caps(m, rings);
+    const std::vector<double> h = harmonic_blend(m.positions, rings, s);
+    int blend = 0;
+    for (std::uint32_t v = 0; v < s.size(); ++v) {
+        if (!in_blend(s[v])) {
+            CHECK(h[v] == s[v]);
+            continue;
+        }
+        ++blend;
+        REQUIRE(in_blend(h[v]));
+        // A weighted mean of its neighbours with positive weights (the discrete
+        // maximum principle): never above the largest or below the smallest.
+        double lo = 1.0, hi = 0.0;
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
+            lo = std::min(lo, h[rings.neighbours[k]]), hi = std::max(hi, h[rings.neighbours[k]]);
+        CHECK(h[v] >= lo - 1e-9);
+        CHECK(h[v] <= hi + 1e-9);
+    }
+    CHECK(blend > 100);
+}
+
+TEST_CASE("harmonic blend is the same on the mesh turned, moved far away and scaled", "[region][harmonic]") {
+    const TriangleMesh m = icosphere(3, 1.0);
+    const VertexRings rings = build_vertex_rings(m);
+    const std::vector<double> s = sphere_caps(m, rings);
+    const std::vector<double> h = harmonic_blend(m.positions, rings, s);
+    const glm::dmat3 turn(glm::rotate(glm::dmat4(1.0), 2.1, glm::normalize(Vec3(0.3, -0.8, 0.5))));
+    for (const double scale : {1e-3, 1.0, 1e4}) {
+        std::vector<Vec3> placed;
+        for (const Vec3& p : m.positions) placed.push_back(scale * (turn * p) + Vec3(100.0 * scale, -70.0 * scale, 3.0));
+        const std::vector<double> again = harmonic_blend(placed, rings, s);
+        double worst = 0.0;
+        for (std::size_t v = 0; v < s.size(); ++v) worst = std::max(worst, std::abs(again[v] - h[v]));
+        INFO("scale " << scale);
+        CHECK(worst < 1e-8);
+    }
+}
+
+TEST_CASE("harmonic blend has no kink where eq. (16)'s geodesic distances meet", "[region][harmonic]") {
+    // A square with the inner region a disc and the outer region a U round it
+    // (the right edge, the top and the bottom): the distance to the outer region
+    // is the least of three and kinks where two are equal, along the lines from
+    // the U's corners inwards, which cross the middle of the blend region.
+    const TriangleMesh m = grid_mesh(60, 1.0);
+    const VertexRings rings = build_vertex_rings(m);
+    std::vector<std::uint8_t> inner(m.positions.size()), outer(m.positions.size());
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+        const Vec3& p = m.positions[v];
+        inner[v] = glm::length(p - Vec3(0.3, 0.5, 0.0)) < 0.1;  // the disc
+        outer[v] = p.x > 0.8 || p.y < 0.1 || p.y > 0.9;
+    }
+    const std::vector<double> s = painted_region_field(m.positions, rings, inner, outer).s;
+    const std::vector<double> h = harmonic_blend(m.positions, rings, s);
+    const Vec3 disc(0.3, 0.5, 0.0);
+    const double geodesic_kink = largest_kink(m, s, disc, 0.25), harmonic_kink = largest_kink(m, h, disc, 0.25);
+    INFO("largest kink: eq. (16) " << geodesic_kink << ", harmonic " << harmonic_kink);
+    CHECK(harmonic_kink < 0.4 * geodesic_kink);
+}
+
+TEST_CASE("a scene's region profile: harmonic by default, eqs. (15) and (16) as printed on request",
+          "[region][harmonic][scene]") {
+    const TriangleMesh m = icosphere(3, 1.0);
+    const VertexRings rings = build_vertex_rings(m);
+    RegionSpec spec;
+    spec.kind = RegionSpec::Kind::geodesic;
+    spec.seed = Vec3(0.0, 0.0, 1.0);
+    spec.g_min = 0.4, spec.g_max = 1.6;
+    std::vector<std::string> warnings;
+    const std::vector<double> harmonic = build_region(spec, m.positions, rings, warnings).s;
+    spec.profile = RegionSpec::Profile::geodesic;
+    const std::vector<double> printed = build_region(spec, m.positions, rings, warnings).s;
+    CHECK(printed == geodesic_level_field(m.positions, rings, nearest_vertex(m.positions, spec.seed), 0.4, 1.6));
+    CHECK(harmonic == harmonic_blend(m.positions, rings, printed));
+    CHECK(harmonic != printed);
+    for (std::size_t v = 0; v < printed.size(); ++v) CHECK(in_blend(harmonic[v]) == in_blend(printed[v]));
+
+    Scene scene;
+    scene.mesh = "builtin:sphere";
+    scene.region = spec;
+    scene.motion.curve.bezier = {Vec3(0, 0, 1), Vec3(0, 0, 1.2), Vec3(0, 0, 1.4), Vec3(0, 0, 1.6)};
+    CHECK(parse_scene(scene_to_json(scene), ".").region.profile == RegionSpec::Profile::geodesic);
+    nlohmann::json j = scene_to_json(scene);
+    j["region"].erase("profile");
+    CHECK(parse_scene(j, ".").region.profile == RegionSpec::Profile::harmonic);
+    j["region"]["profile"] = "smooth";
+    CHECK_THROWS_WITH(parse_scene(j, "scene.json"), Catch::Contains("region.profile"));
+}
