@@ -193,8 +193,8 @@ int run_battery(const Args& args) {
     const int worst = positive_int(args, "worst", 5), steps = positive_int(args, "steps", 0);
     const double amplitude = args.get_number("amplitude", 1.0);
     const std::string scheme = args.get("scheme", "default");
-    if (scheme != "default" && scheme != "paper" && scheme != "repair")
-        throw UsageError("--scheme must be 'default', 'paper' or 'repair'");
+    if (scheme != "default" && scheme != "paper" && scheme != "no-repair")
+        throw UsageError("--scheme must be 'default', 'paper' or 'no-repair'");
     if (!(amplitude > 0.0 && amplitude <= 1.0)) throw UsageError("--amplitude expects a number in (0, 1]");
     if (args.has("threads")) set_parallel_thread_limit(std::max(1, positive_int(args, "threads", 0)));
     std::vector<std::string> sources =
@@ -209,11 +209,12 @@ int run_battery(const Args& args) {
     for (int index = first; index < last; ++index) {
         BatteryScene b = generate_battery_scene(static_cast<std::uint64_t>(seed), index, sources, amplitude);
         if (steps > 0) b.scene.options.steps = steps;
-        if (scheme == "paper") {  // sec. 5 as printed, for comparison
+        if (scheme == "paper") {  // secs. 5 and 6 as printed, for comparison
             b.scene.options = gpu_mirrored(b.scene.options);
             b.scene.options.tangent_smoothing = true;
+            b.scene.region.profile = RegionSpec::Profile::geodesic;
         }
-        if (scheme == "repair") b.scene.options.repair_folds = true;  // the default and the fold repair
+        if (scheme == "no-repair") b.scene.options.repair_folds = false;  // the flow alone
         outcomes.push_back(run_scene(std::move(b)));
         const Outcome& o = outcomes.back();
         std::printf(

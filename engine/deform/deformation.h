@@ -33,12 +33,12 @@ struct DeformationOptions {
     bool gradients_at_midpoint = true;
     // Beyond the paper, to keep its promise on any scene (docs/method.md,
     // "Keeping the promise"); all four false is sec. 5 as printed. The fold
-    // repair is off unless asked for: it moves vertices off their path lines and
-    // can dent a shape the flow would have untangled by itself (docs/method.md).
+    // repair acts only after a step that folded a triangle; it moves those
+    // vertices off their path lines, by the shifts its stats report.
     bool fit_stream_gauge = true;    // fit the stream's gauge to the blend region every step (field/stream_gauge.h)
     bool tangent_smoothing = false;  // keep ∇r tangent while smoothing it (sec. 5) instead of smoothing it in space
     bool keep_volume = true;         // undo the scheme's volume drift after every step (deform/volume_keeper.h)
-    bool repair_folds = false;       // place a folded triangle's blend vertices again (deform/fold_repair.h)
+    bool repair_folds = true;        // place a folded triangle's blend vertices again (deform/fold_repair.h)
 };
 
 // Throws InputError when an option is out of range.

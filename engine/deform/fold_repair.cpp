@@ -194,12 +194,19 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings) {
     if (!active()) return 0;
     std::vector<std::uint32_t> bad = folded(x);
     if (bad.empty()) return 0;
+    const std::size_t found = bad.size();
     ++stats_.steps_repaired;
     struct Start {
         Vec3 position;
         double reach;  // how far the repair may move the vertex: kReach of its ring's mean edge
     };
     std::unordered_map<std::uint32_t, Start> start;
+    // The positions after the round that left the fewest folds: the step keeps
+    // those (on a mesh of slivers a ring fit can be ill-posed, and a round that
+    // folds more than it unfolds must not start a cascade), or its start when
+    // no round left fewer than it found.
+    std::unordered_map<std::uint32_t, Vec3> best;
+    std::size_t fewest = found;
     for (int round = 0; round < kRounds && !bad.empty(); ++round) {
         const std::vector<std::uint32_t> vertices = vertices_to_move(bad, std::min(kGrowth, 1 + round / 3), rings);
         for (const std::uint32_t v : vertices) start.emplace(v, Start{x[v], kReach * mean_edge(x, rings, v)});
@@ -216,11 +223,22 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings) {
             if (length > s.reach) x[v] = s.position + (s.reach / length) * move;
         }
         bad = folded(x);
+        if (bad.size() < fewest) {
+            fewest = bad.size();
+            best.clear();
+            for (const auto& [v, s] : start) best.emplace(v, x[v]);
+        }
+    }
+    if (bad.size() > fewest || best.empty()) {
+        for (const auto& [v, s] : start) {
+            const auto kept = best.find(v);
+            x[v] = kept != best.end() ? kept->second : s.position;
+        }
     }
     double shift = 0.0;
     for (const auto& [v, s] : start) shift = std::max(shift, glm::length(x[v] - s.position));
     stats_.max_shift = std::max(stats_.max_shift, shift);
-    return bad.size();
+    return fewest;
 }
 
 std::size_t FoldRepair::bytes() const {

@@ -18,11 +18,12 @@
 //
 // Each round takes the folded triangles' blend corners and the blend vertices
 // up to min(3, 1 + round / 3) rings around them; no vertex moves further than its
-// ring's mean edge in one step. Only blend vertices move: the outer region stays
-// exactly put and the inner region rigid. The repaired vertices leave their path
-// lines for good (nothing brings them back), by the shifts the stats report;
-// that can dent a shape the flow would have untangled by itself, so the repair
-// is off unless a scene asks for it (docs/method.md, "The fold repair").
+// ring's mean edge in one step. The step keeps the round that left the fewest
+// folds (none if no round did better than the step found), so a repair never
+// leaves more folds than it found. Only blend vertices move: the outer region
+// stays exactly put and the inner region rigid. It acts only after a step that
+// folded something, and the repaired vertices leave their path lines by the
+// shifts the stats report (docs/method.md, "The fold repair").
 
 #include <cstdint>
 #include <vector>
