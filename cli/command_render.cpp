@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "base/error.h"
+#include "deform/quality.h"
 #include "cli/commands.h"
 #include "scene/framing.h"
 #include "gpu/context.h"
@@ -105,11 +106,15 @@ int run_render(const Args& args) {
         options.vertex_origin = on_gpu->origin;
     else
         uploaded = render::make_vertex_texture(deformation.positions(), prepared.region.s);
+    // Folded triangles are drawn in magenta, as the editors draw them.
+    const std::vector<std::uint32_t> folds =
+        flipped_triangle_list(start, deformation.positions(), prepared.file.mesh.triangles);
+    options.highlight = &folds;
     const std::vector<std::uint8_t> image =
         render::render_image(renderer, on_gpu ? *on_gpu->texture : *uploaded, camera, width, height, options);
     write_png(out, width, height, image);
-    std::printf("%s: %dx%d, t = %g, %s (%s: %s)\n", out.c_str(), width, height, time, backend.c_str(),
-                context->kind().c_str(), context->renderer().c_str());
+    std::printf("%s: %dx%d, t = %g, %s (%s: %s), %zu folded triangles (magenta)\n", out.c_str(), width, height, time,
+                backend.c_str(), context->kind().c_str(), context->renderer().c_str(), folds.size());
     return kExitOk;
 }
 
