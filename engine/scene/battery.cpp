@@ -230,19 +230,26 @@ BatteryScene generate_battery_scene(std::uint64_t seed, int index, const std::ve
     // The blend region must be at least kBatteryBlendRings rings wide everywhere;
     // where the triangles are large it is widened (the same random choices) or,
     // when the mesh is too short for that, the inner region is made smaller.
-    for (int attempt = 0;; ++attempt) {
-        Random trial = rng;
-        scene.region = RegionSpec{};
-        b.region_kind = set_region(trial, layout, mesh, scene.region);
-        std::vector<std::string> warnings;
-        b.blend_rings = blend_ring_width(build_region(scene.region, mesh.positions, rings, warnings).s, rings);
-        if (b.blend_rings >= kBatteryBlendRings || attempt == 6) {
-            rng = trial;
-            break;
+    // Where that does not make room either (a coarse part), the region is laid
+    // out about another seed, up to kLayouts times.
+    constexpr int kLayouts = 12;
+    for (int layouts = 1;; ++layouts) {
+        for (int attempt = 0;; ++attempt) {
+            Random trial = rng;
+            scene.region = RegionSpec{};
+            b.region_kind = set_region(trial, layout, mesh, scene.region);
+            std::vector<std::string> warnings;
+            b.blend_rings = blend_ring_width(build_region(scene.region, mesh.positions, rings, warnings).s, rings);
+            if (b.blend_rings >= kBatteryBlendRings || attempt == 6) {
+                rng = trial;
+                break;
+            }
+            const double wider = layout.width * 1.2 * kBatteryBlendRings / std::max(1, b.blend_rings);
+            layout.inner = std::max(0.25 * layout.inner, std::min(layout.inner, 0.8 * layout.reach - wider));
+            layout.width = std::min(wider, 0.8 * layout.reach - layout.inner);
         }
-        const double wider = layout.width * 1.2 * kBatteryBlendRings / std::max(1, b.blend_rings);
-        layout.inner = std::max(0.25 * layout.inner, std::min(layout.inner, 0.8 * layout.reach - wider));
-        layout.width = std::min(wider, 0.8 * layout.reach - layout.inner);
+        if (b.blend_rings >= kBatteryBlendRings || layouts == kLayouts) break;
+        layout = layout_region(rng, mesh, rings);
     }
     const Vec3 start = mesh.positions[layout.seed];
     const double amp = amplitude;
