@@ -190,7 +190,9 @@ TEST_CASE("preparing the first step apart changes no step", "[deform]") {
         DeformationOptions options;
         options.gradients_at_midpoint = midpoint;
         Deformation plain = scene.deformation(motion, 50, options), prepared = scene.deformation(motion, 50, options);
-        // Only where the first step estimates ∇r apart from its midpoint's (and once).
+        // The keepers (volume, fold repair: on by default) once; then the estimates
+        // only where the first step takes ∇r apart from its midpoint's (and once).
+        CHECK(prepared.prepare_first_step());
         CHECK(prepared.prepare_first_step() == midpoint);
         CHECK_FALSE(prepared.prepare_first_step());
         CHECK(prepared.positions() == plain.positions());  // no step taken yet

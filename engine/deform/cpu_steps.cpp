@@ -65,8 +65,6 @@ CpuSteps::CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region
         s_ = gather_in_order(region_.s, order_);
         parts_ = RegionParts::of(s_, rings_);
         gauge_samples_ = gauge_samples(s_, parts_.blend);
-        if (options_.keep_volume) volume_ = VolumeKeeper(positions_, s_, rings_, parts_.blend);
-        if (options_.repair_folds) fold_repair_ = FoldRepair(positions_, s_, rings_);
     }
     normals_.assign(positions_.size(), Vec3(0.0));
     gradients_.assign(positions_.size(), Vec3(0.0));
@@ -75,6 +73,7 @@ CpuSteps::CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region
 }
 
 void CpuSteps::step(double time, double h, int step) {
+    build_keepers();
     StepMotion motion = StepMotion::sample(motion_, time, h);
     for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) *m = frame_.to_local(*m);
     if (region_.sphere_tool) {
@@ -117,10 +116,24 @@ const std::vector<Vec3>& CpuSteps::positions() const {
     return input_order_;
 }
 
+// One piece of the work per call (the keepers, then the estimates), so that
+// each can have a frame of its own.
 bool CpuSteps::prepare_first_step() {
+    if (build_keepers()) return true;
     if (region_.sphere_tool || have_gradients_ || !options_.gradients_at_midpoint) return false;
     estimate_at_start();
     return true;
+}
+
+// The volume keeper and the fold repair take the rest positions: built before
+// the first step, by it or by prepare_first_step (so that the editors' frame
+// that prepares the deformation does not also pay for these). True if built now.
+bool CpuSteps::build_keepers() {
+    if (keepers_built_ || region_.sphere_tool) return false;
+    keepers_built_ = true;
+    if (options_.keep_volume) volume_ = VolumeKeeper(positions_, s_, rings_, parts_.blend);
+    if (options_.repair_folds) fold_repair_ = FoldRepair(positions_, s_, rings_);
+    return options_.keep_volume || options_.repair_folds;
 }
 
 // ∇r and the gauge's fit at the step's start.

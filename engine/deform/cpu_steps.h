@@ -38,6 +38,7 @@ private:
     void check_finite(const std::vector<Vec3>& candidate, int step, double time) const;
     void estimate_surface_gradients(const std::vector<Vec3>& at);
     void estimate_at_start();
+    bool build_keepers();
     GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
 
     // positions_, rings_ and s_ are in the work order: vertex i is input vertex
@@ -64,6 +65,7 @@ private:
     bool have_gradients_ = false;               // gradients_ hold the last step's ∇r
     std::vector<std::uint32_t> gauge_samples_;  // the blend vertices the stream's gauge is fitted to
     std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
+    bool keepers_built_ = false;  // volume_ and fold_repair_, at rest (build_keepers)
     VolumeKeeper volume_;
     FoldRepair fold_repair_;
     double volume_restored_ = 0.0;  // Σ |drift undone|

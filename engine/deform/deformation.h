@@ -81,8 +81,9 @@ public:
     // One RK4 step from `time` by `h` (negative: back), the `step`-th of the
     // deformation. Throws nonfinite_position() when it can tell at once.
     virtual void step(double time, double h, int step) = 0;
-    // Does now what the first step would do before it steps (the CPU: ∇r and the
-    // gauge at the start), so that a caller can give it a frame of its own; true
+    // Does now a piece of what the first step would do before it steps (the CPU:
+    // the volume keeper and the fold repair built at rest; ∇r and the gauge at
+    // the start), so that a caller can give each a frame of its own; true
     // when there was such work. The steps are the same either way.
     virtual bool prepare_first_step() { return false; }
     // The positions at the last step's end, in the input's vertex order.

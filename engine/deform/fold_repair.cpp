@@ -62,11 +62,21 @@ FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>&
     const auto n = static_cast<std::uint32_t>(rings.vertex_count());
     movable_.resize(n);
     for (std::uint32_t v = 0; v < n; ++v) movable_[v] = s[v] > 0.0 && s[v] < 1.0;
+    // Every triangle needed below has a corner in the blend region or its 1-ring
+    // (an edge neighbour's edge neighbour of a triangle with a blend corner still
+    // shares a vertex with that corner's ring), so only those are gathered: the
+    // cost follows the blend region, not the mesh.
+    std::vector<std::uint8_t> near(movable_.begin(), movable_.end());
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (movable_[v])
+            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) near[rings.neighbours[k]] = 1;
     std::vector<Triangle> all;
+    all.reserve(rings.neighbours.size() / 3 + 1);
     for (std::uint32_t v = 0; v < n; ++v)
         for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
             const std::uint32_t a = rings.neighbours[k], b = rings.neighbours[rings.next(v, k)];
-            if (rings.wedge[k] && v < a && v < b) all.push_back(Triangle(v, a, b));  // each once
+            if (rings.wedge[k] && v < a && v < b && (near[v] || near[a] || near[b]))
+                all.push_back(Triangle(v, a, b));  // each once
         }
     const TriangleNeighbours neighbours = triangle_neighbours(all);
     // Checked: the triangles with a blend corner and their edge neighbours (whose

@@ -158,7 +158,7 @@ public:
     // Prepares what a run toward the target needs before its first step, one part
     // per call, so that an editor can give each a frame of its own: the
     // deformation (the region's parts, the mesh reordered, ...) when none is
-    // ready, then the first step's estimates (Deformation::prepare_first_step).
+    // ready, then what the first step needs (Deformation::prepare_first_step).
     // True when it did some (or failed to: the error is in warnings() and the run
     // stops, as update()'s); false once the run can step.
     bool prepare_run();
