@@ -296,6 +296,7 @@ TEST_CASE("vfsd-desktop: a first edit on the armadillo lifts its hand rigidly, t
     CHECK(hand_lift > 0.05 * diagonal);  // the drag went up the screen, y is up
     CHECK(fit.rms_residual <= 1e-3 * diagonal);
     CHECK(body_moved <= 1e-7 * diagonal);  // to the exported file's float precision
+    CHECK(folds == 0);  // no triangle turned against its neighbours (docs/method.md, "Keeping the promise")
 
     // The figures of README's "First edit": VFSD_FIGURES_DIR=docs/figures.
     if (const char* figures = std::getenv("VFSD_FIGURES_DIR")) {

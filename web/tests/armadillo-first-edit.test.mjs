@@ -168,6 +168,7 @@ try {
   check(lift > 0.05 * d, `the hand rose ${(lift / d).toFixed(3)} D`);
   check(stretch <= 1e-4 * d, `the hand moved rigidly (distances kept to ${(stretch / d).toExponential(2)} D)`);
   check(bodyMoved <= 1e-6 * d, `the body stayed (${(bodyMoved / d).toExponential(2)} D)`);
+  check(stats.flipped_triangles === 0, `no folded triangles (${stats.flipped_triangles})`);
   await page.screenshot({ path: path.join(out, 'armadillo-lifted.png') });
 
   // ---- idle afterwards: no frames, and the CPU it costs ----
