@@ -41,8 +41,8 @@ TriangleNeighbours triangle_neighbours(const std::vector<Triangle>& triangles) {
     struct Edge {
         std::uint32_t a, b, triangle;
     };
-    // The edges ordered by (a, b), stably: bucketed by their lower vertex (a
-    // counting sort, linear in the mesh), then each small bucket by the other.
+    // The edges ordered by (a, b, triangle): bucketed by their lower vertex (a
+    // counting sort, linear in the mesh), then each small bucket sorted.
     std::uint32_t vertices = 0;
     for (const Triangle& t : triangles) vertices = std::max({vertices, t[0] + 1, t[1] + 1, t[2] + 1});
     std::vector<std::uint32_t> start(vertices + 1, 0);
@@ -56,16 +56,10 @@ TriangleNeighbours triangle_neighbours(const std::vector<Triangle>& triangles) {
             const std::uint32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
             edges[next[std::min(a, b)]++] = {std::min(a, b), std::max(a, b), t};
         }
-    const auto by_b = [](const Edge& x, const Edge& y) { return x.b < y.b; };
-    for (std::uint32_t v = 0; v < vertices; ++v) {
-        const auto first = edges.begin() + start[v], last = edges.begin() + start[v + 1];
-        if (last - first > 32) {
-            std::stable_sort(first, last, by_b);
-            continue;
-        }
-        for (auto i = first; i != last; ++i)  // insertion sort: no allocation for a small bucket
-            for (auto j = i; j != first && by_b(*j, *(j - 1)); --j) std::iter_swap(j, j - 1);
-    }
+    for (std::uint32_t v = 0; v < vertices; ++v)
+        std::sort(edges.begin() + start[v], edges.begin() + start[v + 1], [](const Edge& x, const Edge& y) {
+            return x.b != y.b ? x.b < y.b : x.triangle < y.triangle;
+        });
     // Each edge shared by m triangles gives each of them m - 1 neighbours: counted, then filled.
     TriangleNeighbours n;
     n.offsets.assign(triangles.size() + 1, 0);
