@@ -130,8 +130,8 @@ unsigned parallel_thread_count() {
 
 void set_parallel_thread_limit(unsigned threads) { thread_limit = threads; }
 
-void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
-    if (n < kParallelGrain || parallel_thread_count() == 1) {
+void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body, std::size_t grain) {
+    if (n < grain || parallel_thread_count() == 1) {
         if (n > 0) body(0, n);
         return;
     }

@@ -7,14 +7,45 @@
 
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 namespace vfsd {
 
 // Below this many items a call runs on the calling thread alone.
 constexpr std::size_t kParallelGrain = 8192;
 
-// Calls body(begin, end) on disjoint chunks covering [0, n).
-void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body);
+// Calls body(begin, end) on disjoint chunks covering [0, n); serially below
+// `grain` items (a caller whose items are blocks of work passes a smaller one).
+void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body,
+                  std::size_t grain = kParallelGrain);
+
+// Σ term(i) over [0, n) in an order that depends on n alone, so the same bits on
+// any number of threads: blocks of kSumBlock terms, each summed into four
+// interleaved accumulators (no chain of dependent additions), on all threads;
+// then the blocks' sums in order.
+constexpr std::size_t kSumBlock = 1024;
+template <class Term>
+double parallel_sum(std::size_t n, const Term& term) {
+    const std::size_t blocks = (n + kSumBlock - 1) / kSumBlock;
+    std::vector<double> partial(blocks);
+    parallel_for(
+        blocks,
+        [&](std::size_t first, std::size_t last) {
+            for (std::size_t block = first; block < last; ++block) {
+                const std::size_t begin = block * kSumBlock, end = begin + kSumBlock < n ? begin + kSumBlock : n;
+                double sum[4] = {0.0, 0.0, 0.0, 0.0};
+                std::size_t i = begin;
+                for (; i + 4 <= end; i += 4)
+                    sum[0] += term(i), sum[1] += term(i + 1), sum[2] += term(i + 2), sum[3] += term(i + 3);
+                for (; i < end; ++i) sum[0] += term(i);
+                partial[block] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
+            }
+        },
+        kParallelGrain / kSumBlock);
+    double total = 0.0;
+    for (const double p : partial) total += p;
+    return total;
+}
 
 // Number of threads parallel_for uses (1 where threads are unavailable).
 unsigned parallel_thread_count();

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "base/error.h"
+#include "base/parallel.h"
 #include "field/stream_gauge.h"
 #include "field/vector_field.h"
 #include "mesh/vertex_order.h"
@@ -101,7 +102,7 @@ void CpuSteps::step(double time, double h, int step) {
     // The volume drift is undone after every step, while it is small and smooth
     // (restoring it every few steps folded thin features); it is then part of
     // the step's map, and a step back undoes it as well.
-    if (!region_.sphere_tool) volume_restored_ += std::abs(volume_.restore(positions_, rings_));
+    if (!region_.sphere_tool) volume_restored_ += std::abs(volume_.restore(positions_, area_vectors_));
     input_order_current_ = false;
 }
 
@@ -165,7 +166,7 @@ double CpuSteps::volume_restored_percent() const {
 
 // Normal, gradient (eq. 6) and smoothing passes on the positions `at`.
 void CpuSteps::estimate_surface_gradients(const std::vector<Vec3>& at) {
-    estimate_normals(at, rings_, parts_.blend, normals_);
+    estimate_normals(at, rings_, parts_.blend, normals_, area_vectors_);
     estimate_gradients(at, normals_, s_, rings_, parts_.blend, gradients_);
     smooth_gradients(normals_, parts_, options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing,
                      gradients_, smoothing_);
@@ -181,10 +182,10 @@ std::size_t bytes(const std::vector<T>& v) {
 
 std::size_t CpuSteps::state_bytes() const {
     return bytes(positions_) + bytes(next_) + bytes(midpoints_) + bytes(normals_) + bytes(gradients_) +
-           bytes(input_order_) + bytes(smoothing_.gradients) + bytes(smoothing_.next) + bytes(smoothing_.normals) +
-           bytes(region_.s) + bytes(s_) + bytes(order_) + bytes(rings_.offsets) + bytes(rings_.neighbours) +
-           bytes(rings_.wedge) + bytes(parts_.blend) + bytes(parts_.inner) + bytes(parts_.blend_ring_offsets) +
-           bytes(parts_.blend_rings) + fold_repair_.bytes();
+           bytes(area_vectors_) + bytes(input_order_) + bytes(smoothing_.gradients) + bytes(smoothing_.next) +
+           bytes(smoothing_.normals) + bytes(region_.s) + bytes(s_) + bytes(order_) + bytes(rings_.offsets) +
+           bytes(rings_.neighbours) + bytes(rings_.wedge) + bytes(parts_.blend) + bytes(parts_.inner) +
+           bytes(parts_.blend_ring_offsets) + bytes(parts_.blend_rings) + fold_repair_.bytes();
 }
 
 // Throws NumericalError at the first non-finite position among those the step moved.
@@ -198,8 +199,14 @@ void CpuSteps::check_finite(const std::vector<Vec3>& candidate, int step, double
         for (std::size_t v = 0; v < candidate.size(); ++v) check(v);
         return;
     }
-    for (const std::uint32_t v : parts_.inner) check(v);
-    for (const std::uint32_t v : parts_.blend) check(v);
+    for (const auto* part : {&parts_.inner, &parts_.blend}) {
+        const auto non_finite = parallel_sum(part->size(), [&](std::size_t i) {
+            const Vec3& p = candidate[(*part)[i]];
+            return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) ? 0.0 : 1.0;
+        });
+        if (non_finite > 0.0)  // the first in order, named
+            for (const std::uint32_t v : *part) check(v);
+    }
 }
 
 }  // namespace vfsd

@@ -61,6 +61,7 @@ private:
     // positions_, next_ and midpoints_ hold the same outer positions throughout.
     RegionParts parts_;
     std::vector<Vec3> normals_, gradients_, next_, midpoints_;
+    std::vector<Vec3> area_vectors_;  // per blend vertex, where normals_ were taken: the volume keeper's ∂V/∂x
     SmoothingScratch smoothing_;
     bool have_gradients_ = false;               // gradients_ hold the last step's ∇r
     std::vector<std::uint32_t> gauge_samples_;  // the blend vertices the stream's gauge is fitted to

@@ -112,15 +112,19 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x) {
     parallel_for(triangles_.size(), [&](std::size_t first, std::size_t last) {
         for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, triangles_[t]);
     });
+    flags_.resize(check_.size());
+    parallel_for(check_.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+            Vec3 mean(0.0);
+            for (std::uint32_t k = neighbour_offsets_[i]; k < neighbour_offsets_[i + 1]; ++k)
+                mean += normals_[neighbours_[k]];
+            flags_[i] = !against_at_rest_[i] && neighbour_offsets_[i] < neighbour_offsets_[i + 1] &&
+                        glm::dot(normals_[check_[i]], mean) < 0.0;
+        }
+    });
     std::vector<std::uint32_t> out;
-    for (std::uint32_t i = 0; i < check_.size(); ++i) {
-        if (against_at_rest_[i]) continue;
-        Vec3 mean(0.0);
-        for (std::uint32_t k = neighbour_offsets_[i]; k < neighbour_offsets_[i + 1]; ++k)
-            mean += normals_[neighbours_[k]];
-        if (neighbour_offsets_[i] < neighbour_offsets_[i + 1] && glm::dot(normals_[check_[i]], mean) < 0.0)
-            out.push_back(i);
-    }
+    for (std::uint32_t i = 0; i < check_.size(); ++i)
+        if (flags_[i]) out.push_back(i);
     return out;
 }
 
@@ -254,7 +258,7 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings) {
 std::size_t FoldRepair::bytes() const {
     return rest_.capacity() * sizeof(Vec3) + movable_.capacity() + triangles_.capacity() * sizeof(Triangle) +
            (check_.capacity() + neighbour_offsets_.capacity() + neighbours_.capacity()) * sizeof(std::uint32_t) +
-           against_at_rest_.capacity() + normals_.capacity() * sizeof(Vec3) + mark_.capacity();
+           against_at_rest_.capacity() + flags_.capacity() + normals_.capacity() * sizeof(Vec3) + mark_.capacity();
 }
 
 }  // namespace vfsd

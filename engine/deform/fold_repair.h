@@ -69,6 +69,7 @@ private:
     std::vector<std::uint32_t> check_, neighbour_offsets_, neighbours_;
     std::vector<std::uint8_t> against_at_rest_;  // per check_ entry
     std::vector<Vec3> normals_;                  // per triangles_ entry, scratch
+    std::vector<std::uint8_t> flags_;            // per check_ entry, scratch
     std::vector<std::uint8_t> mark_;             // per vertex, scratch
     FoldRepairStats stats_;
 };

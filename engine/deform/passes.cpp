@@ -178,6 +178,12 @@ void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rin
     vertex_normals(positions, rings, vertices, normals);
 }
 
+void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rings,
+                      const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals,
+                      std::vector<Vec3>& area_vectors) {
+    vertex_normals(positions, rings, vertices, normals, area_vectors);
+}
+
 std::vector<std::uint32_t> blend_vertices(const std::vector<double>& s) {
     std::vector<std::uint32_t> blend;
     for (std::size_t v = 0; v < s.size(); ++v)
@@ -216,10 +222,12 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
     scratch.gradients.resize(n);
     scratch.next.resize(n);
     scratch.normals.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        scratch.gradients[i] = pack(gradients[parts.blend[i]]);
-        scratch.normals[i] = pack(normals[parts.blend[i]]);
-    }
+    parallel_for(n, [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+            scratch.gradients[i] = pack(gradients[parts.blend[i]]);
+            scratch.normals[i] = pack(normals[parts.blend[i]]);
+        }
+    });
     const float w = static_cast<float>(weight);
     for (int step = 0; step < steps; ++step) {
         parallel_for(n, [&](std::size_t first, std::size_t last) {
@@ -241,10 +249,12 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
         });
         scratch.gradients.swap(scratch.next);
     }
-    for (std::size_t i = 0; i < n; ++i) {
-        const Float4 g = scratch.gradients[i];
-        gradients[parts.blend[i]] = Vec3(g[0], g[1], g[2]);
-    }
+    parallel_for(n, [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+            const Float4 g = scratch.gradients[i];
+            gradients[parts.blend[i]] = Vec3(g[0], g[1], g[2]);
+        }
+    });
 }
 
 void predict_midpoints(const MotionSample& start, double h, const std::vector<double>& s, const RegionParts& parts,

@@ -19,6 +19,11 @@ void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rin
 // The same at the listed vertices only: the blend region, where the next passes use them.
 void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rings,
                       const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals);
+// The same, and each listed vertex's unnormalised sum in area_vectors[i]
+// (mesh/geometry.h's ring_area_vector: 6 ∂V/∂x, which the volume keeper uses).
+void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rings,
+                      const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals,
+                      std::vector<Vec3>& area_vectors);
 
 // The vertices with 0 < s < 1. Only there does the field use ∇r: b′(s) = 0 for
 // s = 0 and s = 1 (eq. 4), so the gradient and smoothing passes skip the rest.

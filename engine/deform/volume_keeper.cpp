@@ -33,46 +33,28 @@ VolumeKeeper::VolumeKeeper(const std::vector<Vec3>& rest, const std::vector<doub
 }
 
 double VolumeKeeper::moving_volume(const std::vector<Vec3>& p) const {
-    // Per triangle in parallel, summed in one order: the same sum on any number of threads.
-    scratch_.resize(moving_.size());
-    parallel_for(moving_.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) {
-            const Triangle& t = moving_[i];
-            scratch_[i] = glm::dot(p[t.x] - centre_, glm::cross(p[t.y] - centre_, p[t.z] - centre_));
-        }
-    });
-    double sum = 0.0;
-    for (const double v : scratch_) sum += v;
-    return sum / 6.0;
+    const auto six_volume = [&](std::size_t i) {  // of triangle i's tetrahedron with the centre
+        const Triangle& t = moving_[i];
+        return glm::dot(p[t.x] - centre_, glm::cross(p[t.y] - centre_, p[t.z] - centre_));
+    };
+    return parallel_sum(moving_.size(), six_volume) / 6.0;
 }
 
 double VolumeKeeper::volume(const std::vector<Vec3>& positions) const {
     return fixed_volume_ + moving_volume(positions);
 }
 
-double VolumeKeeper::restore(std::vector<Vec3>& positions, const VertexRings& rings) const {
-    if (!active_) return 0.0;
+double VolumeKeeper::restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors) const {
+    if (!active_ || area_vectors.size() != blend_.size()) return 0.0;
     const double drift = volume(positions) - rest_volume_;
-    direction_.resize(blend_.size());
-    scratch_.resize(blend_.size());
-    parallel_for(blend_.size(), [&](std::size_t first, std::size_t last) {
-        const std::vector<Vec3>& p = positions;
-        for (std::size_t i = first; i < last; ++i) {
-            const std::uint32_t v = blend_[i];
-            const Vec3 x = p[v];
-            Vec3 gradient(0.0);  // 6 ∂V/∂x_v = Σ over v's triangles (v, a, b) of (a − v) × (b − v)
-            for (std::uint32_t k = rings.begin(v), end = rings.end(v); k < end; ++k)
-                gradient += glm::cross(p[rings.neighbours[k]] - x, p[rings.neighbours[k + 1 == end ? rings.begin(v) : k + 1]] - x);
-            direction_[i] = (weight_[i] / 6.0) * gradient;
-            scratch_[i] = weight_[i] * glm::dot(gradient, gradient) / 36.0;  // w |∂V/∂x|²
-        }
-    });
-    double norm = 0.0;
-    for (const double v : scratch_) norm += v;
+    const auto weighted_square = [&](std::size_t i) {  // w |6 ∂V/∂x|² at blend vertex i
+        return weight_[i] * glm::dot(area_vectors[i], area_vectors[i]);
+    };
+    const double norm = parallel_sum(blend_.size(), weighted_square) / 36.0;  // Σ w |∂V/∂x|²
     if (!(norm > 0.0)) return 0.0;
     const double step = -drift / norm;
     parallel_for(blend_.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) positions[blend_[i]] += step * direction_[i];
+        for (std::size_t i = first; i < last; ++i) positions[blend_[i]] += (step * weight_[i] / 6.0) * area_vectors[i];
     });
     return drift;
 }

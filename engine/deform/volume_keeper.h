@@ -9,10 +9,11 @@
 // one Newton step on the volume constraint moves the blend vertices along
 // w ∂V/∂x, w = (1 − b) b′(s): a smooth bump over the blend region that vanishes
 // where it meets the inner region (which stays rigid) and the outer region
-// (which stays put). ∂V/∂x_v is taken as A_v n_v, the vertex's rest area (a
-// third of its ring's) along the normal the step estimated: no pass of its own,
-// and what the approximation leaves is undone at the next step. The correction
-// is reported, so the field's own drift stays visible.
+// (which stays put). ∂V/∂x_v is the one the step's normal pass found at the
+// step's midpoint (a sixth of the vertex's ring area vector, mesh/geometry.h):
+// no ring pass of its own, and what half a step's change of the rings leaves
+// of the drift is undone at the next step. The correction is reported, so the
+// field's own drift stays visible.
 
 #include <vector>
 
@@ -33,10 +34,10 @@ public:
     // The volume of the mesh at `positions`.
     double volume(const std::vector<Vec3>& positions) const;
     // Moves the blend vertices of `positions` so that the volume is the rest
-    // volume again (to first order in the drift and in the normals' change over
-    // the step); returns the drift it undid. `normals` are unit vertex normals
-    // (those of the step just taken), in the same order.
-    double restore(std::vector<Vec3>& positions, const VertexRings& rings) const;
+    // volume again (to first order in the drift and in the rings' change over
+    // the step); returns the drift it undid. area_vectors[i] is blend vertex i's
+    // ring area vector (6 ∂V/∂x) where the step estimated its normals.
+    double restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors) const;
 
 private:
     double moving_volume(const std::vector<Vec3>& positions) const;
@@ -44,8 +45,6 @@ private:
     bool active_ = false;
     std::vector<std::uint32_t> blend_;
     std::vector<double> weight_;   // w per blend vertex
-    mutable std::vector<Vec3> direction_;  // w ∂V/∂x per blend vertex, a work array
-    mutable std::vector<double> scratch_;  // per-triangle or per-vertex terms of a sum, a work array
     std::vector<Triangle> moving_; // the triangles with a corner that moves (s < 1)
     Vec3 centre_{0.0};             // volumes are summed about it: exact for a closed surface, and no cancellation far from the origin
     double rest_volume_ = 0.0, fixed_volume_ = 0.0;

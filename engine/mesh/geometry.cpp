@@ -38,8 +38,14 @@ double signed_volume(const std::vector<Vec3>& positions, const std::vector<Trian
 
 namespace {
 
-// Normalised sum of the (unnormalised) wedge normals around v.
-Vec3 ring_normal(const std::vector<Vec3>& positions, const VertexRings& rings, std::uint32_t v) {
+Vec3 unit_or_zero(const Vec3& v) {
+    const double len = glm::length(v);
+    return len > 0.0 ? v / len : Vec3(0.0);
+}
+
+}  // namespace
+
+Vec3 ring_area_vector(const std::vector<Vec3>& positions, const VertexRings& rings, std::uint32_t v) {
     const Vec3 x = positions[v];
     Vec3 sum(0.0);
     for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
@@ -48,16 +54,14 @@ Vec3 ring_normal(const std::vector<Vec3>& positions, const VertexRings& rings, s
         const Vec3 b = positions[rings.neighbours[rings.next(v, i)]] - x;
         sum += glm::cross(a, b);  // twice the triangle's area times its normal
     }
-    const double len = glm::length(sum);
-    return len > 0.0 ? sum / len : Vec3(0.0);
+    return sum;
 }
-
-}  // namespace
 
 void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals) {
     normals.resize(positions.size());
     parallel_for(rings.vertex_count(), [&](std::size_t first, std::size_t last) {
-        for (auto v = static_cast<std::uint32_t>(first); v < last; ++v) normals[v] = ring_normal(positions, rings, v);
+        for (auto v = static_cast<std::uint32_t>(first); v < last; ++v)
+            normals[v] = unit_or_zero(ring_area_vector(positions, rings, v));
     });
 }
 
@@ -65,7 +69,21 @@ void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings
                     const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals) {
     normals.resize(positions.size());
     parallel_for(vertices.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) normals[vertices[i]] = ring_normal(positions, rings, vertices[i]);
+        for (std::size_t i = first; i < last; ++i)
+            normals[vertices[i]] = unit_or_zero(ring_area_vector(positions, rings, vertices[i]));
+    });
+}
+
+void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings,
+                    const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals,
+                    std::vector<Vec3>& area_vectors) {
+    normals.resize(positions.size());
+    area_vectors.resize(vertices.size());
+    parallel_for(vertices.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+            area_vectors[i] = ring_area_vector(positions, rings, vertices[i]);
+            normals[vertices[i]] = unit_or_zero(area_vectors[i]);
+        }
     });
 }
 

@@ -26,5 +26,14 @@ void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings
 // The same, computed only at the listed vertices (the others are left as they are).
 void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings,
                     const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals);
+// The same, and the sums themselves: area_vectors[i] for vertices[i].
+void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings,
+                    const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals,
+                    std::vector<Vec3>& area_vectors);
+
+// Σ (a − x) × (b − x) over the triangles (x, a, b) of v's fan: twice its fan's
+// area along its normal. On a closed mesh it is 6 ∂V/∂x_v, the enclosed volume's
+// gradient with respect to v (sec. 7.2's V as a sum of tetrahedra).
+Vec3 ring_area_vector(const std::vector<Vec3>& positions, const VertexRings& rings, std::uint32_t v);
 
 }  // namespace vfsd
