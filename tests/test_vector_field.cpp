@@ -9,6 +9,7 @@
 
 #include "curve/inner_motion.h"
 #include "field/field_lanes.h"
+#include "field/stream_gauge.h"
 #include "field/vector_field.h"
 
 using namespace vfsd;
@@ -58,6 +59,18 @@ InnerMotion curved_motion(InnerMotionMode mode, double twist, std::optional<Vec3
     motion.set_twist_plane(-0.7);  // any plane keeps the field divergence-free
     motion.set_stream_origin(stream_origin);
     return motion;
+}
+
+// A gauge ∇φ about an arbitrary centre and scale; its polynomials need not be a
+// gradient for the tests that use it (they compare evaluations).
+StreamGauge random_gauge(std::mt19937& rng) {
+    std::uniform_real_distribution<double> coefficient(-1.0, 1.0);
+    StreamGauge g;
+    g.centre = Vec3(coefficient(rng), coefficient(rng), coefficient(rng));
+    g.inverse_scale = 0.5 + std::abs(coefficient(rng));
+    for (auto& row : g.q)
+        for (double& q : row) q = coefficient(rng);
+    return g;
 }
 
 // The stream's origins the field tests run with: c(t) (eq. 10) and a fixed point.
@@ -149,7 +162,8 @@ TEST_CASE("the lane-wise field equals the reference field point by point", "[fie
     for (const auto& origin : kStreamOrigins) {
         const InnerMotion motion = curved_motion(mode, 1.5, origin);
         for (double t : {0.2, 0.6, 0.75, 0.95}) {
-            const MotionSample m = motion.at(t);
+            MotionSample m = motion.at(t);
+            m.gauge = random_gauge(rng);
             const int n = kFieldLanes - 3;
             Lanes3 at, grad_b, out;
             double one_minus_b[kFieldLanes] = {};
@@ -187,5 +201,78 @@ TEST_CASE("the stream's origin is c(t) by default or the fixed point, and change
         const MotionSample a = at_curve.at(0.5), b = fixed.at(0.5);
         const Vec3 x = blend.centre + Vec3(0.0, 0.0, 1.0), grad_b(0.0, 0.0, 1.0);
         CHECK(glm::length(deformation_velocity(b, x, 0.5, grad_b) - deformation_velocity(a, x, 0.5, grad_b)) > 0.1);
+    }
+}
+
+TEST_CASE("the stream vector is the quadratic polynomial stream_polynomial expands", "[field]") {
+    // z × U is linear in x, the rotation streams and the gauge quadratic: the
+    // expansion about any centre reproduces stream_vector everywhere, not only
+    // at the ten points it was taken from.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> coord(-3.0, 3.0);
+    for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation})
+        for (const auto& origin : kStreamOrigins)
+            for (double t : {0.1, 0.55, 0.8}) {
+                MotionSample m = curved_motion(mode, 1.5, origin).at(t);
+                m.gauge = random_gauge(rng);
+                const Vec3 centre(coord(rng), coord(rng), coord(rng));
+                const StreamGauge polynomial = stream_polynomial(m, centre, 0.7);
+                for (int i = 0; i < 20; ++i) {
+                    const Vec3 x = centre + Vec3(coord(rng), coord(rng), coord(rng));
+                    const Vec3 expected = stream_vector(m, x);
+                    CHECK(glm::length(gauge_gradient(polynomial, x) - expected) <=
+                          1e-12 * std::max(1.0, glm::length(expected)));
+                }
+            }
+}
+
+namespace {
+
+// The fit's objective (stream_gauge.h) for the gauge g: Σ |S′ × gᵢ|² + μ |gᵢ|² |S′|², S′ = S + ∇φ.
+double gauge_objective(const MotionSample& motion, const StreamGauge& g, const std::vector<GaugeSample>& samples) {
+    MotionSample m = motion;
+    m.gauge = g;
+    double sum = 0.0;
+    for (const GaugeSample& s : samples) {
+        const Vec3 stream = stream_vector(m, s.position);
+        sum += glm::dot(glm::cross(stream, s.weight), glm::cross(stream, s.weight)) +
+               GaugeFit::kStreamWeight * glm::dot(s.weight, s.weight) * glm::dot(stream, stream);
+    }
+    return sum;
+}
+
+}  // namespace
+
+TEST_CASE("the fitted gauge minimises its objective over the cubic gauges", "[field]") {
+    // Samples of a blend band about a curved motion, away from the origin; the
+    // fitted gauge must beat the paper's (zero) gauge and every small change of
+    // it along a cubic φ's gradient (a constant, ∇(x y), ∇(x³/3), ∇(x y z), in the
+    // fit's coordinates). It would not if its right-hand side were wrong.
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> coord(-1.0, 1.0);
+    for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation}) {
+        const InnerMotion motion = curved_motion(mode, 1.5);
+        std::vector<GaugeSample> samples;
+        for (int i = 0; i < 300; ++i) {
+            const Vec3 x = Vec3(0.3, 0.5, 3.2) + Vec3(coord(rng), coord(rng), 0.4 * coord(rng));
+            samples.push_back({x, Vec3(0.3 * coord(rng), 0.3 * coord(rng), 2.0 + coord(rng))});
+        }
+        const GaugeFit fit(samples);
+        for (double t : {0.3, 0.7}) {
+            const MotionSample m = motion.at(t);
+            const StreamGauge best = fit.gauge_for(m);
+            const double at_best = gauge_objective(m, best, samples);
+            CHECK(at_best < gauge_objective(m, StreamGauge{}, samples));
+            for (int direction = 0; direction < 4; ++direction)
+                for (double step : {-1e-2, 1e-2}) {
+                    StreamGauge g = best;
+                    if (direction == 0) g.q[0][0] += step;                     // ∇(x) = (1, 0, 0)
+                    if (direction == 1) g.q[0][2] += step, g.q[1][1] += step;  // ∇(x y) = (y, x, 0)
+                    if (direction == 2) g.q[0][4] += step;                     // ∇(x³/3) = (x², 0, 0)
+                    if (direction == 3) g.q[0][9] += step, g.q[1][8] += step, g.q[2][7] += step;  // ∇(x y z)
+                    INFO("t " << t << ", direction " << direction << ", step " << step);
+                    CHECK(gauge_objective(m, g, samples) > at_best);
+                }
+        }
     }
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "field/stream_gauge.h"
 #include "field/vector_field.h"
 
 namespace vfsd {
@@ -9,44 +10,21 @@ namespace {
 
 void copy3(const Vec3& from, double* to) { to[0] = from.x, to[1] = from.y, to[2] = from.z; }
 
-double inverse_square_length(const Vec3& v) {
-    const double length2 = glm::dot(v, v);
-    return length2 == 0.0 ? 0.0 : 1.0 / length2;
-}
-
-// rotation_stream of vector_field.cpp for one point y, added to s: with
-// 1/|Ω|² = 0 where Ω = 0 the terms vanish without a branch.
-inline void add_rotation_stream(const double* omega, double inv2, double y0, double y1, double y2,
-                                double& s0, double& s1, double& s2) {
-    const double along = omega[0] * y0 + omega[1] * y1 + omega[2] * y2;
-    const double k = along * inv2;
-    const double p0 = y0 - k * omega[0], p1 = y1 - k * omega[1], p2 = y2 - k * omega[2];
-    const double half = 0.5 * (p0 * p0 + p1 * p1 + p2 * p2), lever = along;
-    s0 += half * omega[0] - lever * p0;
-    s1 += half * omega[1] - lever * p1;
-    s2 += half * omega[2] - lever * p2;
-}
-
 }  // namespace
 
 PreparedMotion::PreparedMotion(const MotionSample& m) {
     copy3(m.position, c);
     copy3(m.velocity, v);
     copy3(m.angular_velocity + m.twist, w);
-    copy3(m.angular_velocity, omega);
-    omega_inv2 = inverse_square_length(m.angular_velocity);
-    copy3(m.twist, twist);
-    twist_inv2 = inverse_square_length(m.twist);
-    copy3(m.twist_origin, twist_origin);
-    copy3(m.stream_origin, o);
-    copy3(origin_velocity(m), u);
-    copy3(m.gauge.centre, gauge_centre);
-    gauge_inverse_scale = m.gauge.inverse_scale;
+    // About the gauge's centre and in its scale, where the blend region is (the
+    // paper's gauge: the local frame's origin, within a diagonal of the mesh).
+    const StreamGauge s =
+        stream_polynomial(m, m.gauge.centre, m.gauge.inverse_scale > 0.0 ? m.gauge.inverse_scale : 1.0);
+    copy3(s.centre, stream_centre);
+    stream_inverse_scale = s.inverse_scale;
     for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < 10; ++k) gauge[i][k] = m.gauge.q[i][k];
+        for (int k = 0; k < 10; ++k) stream[i][k] = s.q[i][k];
 }
-
-
 
 // On x86-64 with GCC, an AVX2 clone (four doubles per instruction, no FMA, so
 // the same bits as the baseline SSE2 one) is picked at load time where the CPU
@@ -65,32 +43,24 @@ void deformation_velocities(const PreparedMotion& m, int n, const double* __rest
     double* __restrict ox = out.x;
     double* __restrict oy = out.y;
     double* __restrict oz = out.z;
-    const double (&q)[3][10] = m.gauge;
+    const double(&q)[3][10] = m.stream;
     for (int j = 0; j < n; ++j) {
         const double y0 = px[j] - m.c[0], y1 = py[j] - m.c[1], y2 = pz[j] - m.c[2];
         // Rigid velocity ∇e × ∇f = ċ + (ω + τ) × y.
         const double i0 = m.v[0] + (m.w[1] * y2 - m.w[2] * y1);
         const double i1 = m.v[1] + (m.w[2] * y0 - m.w[0] * y2);
         const double i2 = m.v[2] + (m.w[0] * y1 - m.w[1] * y0);
-        // Stream vector f ∇e − e ∇f = z × U + gauge + rotation streams of ω (about o) and τ (about its origin).
-        const double z0 = px[j] - m.o[0], z1 = py[j] - m.o[1], z2 = pz[j] - m.o[2];
-        double s0 = z1 * m.u[2] - z2 * m.u[1];
-        double s1 = z2 * m.u[0] - z0 * m.u[2];
-        double s2 = z0 * m.u[1] - z1 * m.u[0];
-        // The gauge ∇φ (gauge_gradient of stream_gauge.cpp; all zero for the paper's).
-        const double d0 = (px[j] - m.gauge_centre[0]) * m.gauge_inverse_scale;
-        const double d1 = (py[j] - m.gauge_centre[1]) * m.gauge_inverse_scale;
-        const double d2 = (pz[j] - m.gauge_centre[2]) * m.gauge_inverse_scale;
+        // Stream vector f ∇e − e ∇f + ∇φ, the polynomial PreparedMotion expanded.
+        const double d0 = (px[j] - m.stream_centre[0]) * m.stream_inverse_scale;
+        const double d1 = (py[j] - m.stream_centre[1]) * m.stream_inverse_scale;
+        const double d2 = (pz[j] - m.stream_centre[2]) * m.stream_inverse_scale;
         const double d00 = d0 * d0, d11 = d1 * d1, d22 = d2 * d2, d01 = d0 * d1, d02 = d0 * d2, d12 = d1 * d2;
-        s0 += q[0][0] + q[0][1] * d0 + q[0][2] * d1 + q[0][3] * d2 + q[0][4] * d00 + q[0][5] * d11 + q[0][6] * d22 +
-              q[0][7] * d01 + q[0][8] * d02 + q[0][9] * d12;
-        s1 += q[1][0] + q[1][1] * d0 + q[1][2] * d1 + q[1][3] * d2 + q[1][4] * d00 + q[1][5] * d11 + q[1][6] * d22 +
-              q[1][7] * d01 + q[1][8] * d02 + q[1][9] * d12;
-        s2 += q[2][0] + q[2][1] * d0 + q[2][2] * d1 + q[2][3] * d2 + q[2][4] * d00 + q[2][5] * d11 + q[2][6] * d22 +
-              q[2][7] * d01 + q[2][8] * d02 + q[2][9] * d12;
-        add_rotation_stream(m.omega, m.omega_inv2, z0, z1, z2, s0, s1, s2);
-        const double q0 = px[j] - m.twist_origin[0], q1 = py[j] - m.twist_origin[1], q2 = pz[j] - m.twist_origin[2];
-        add_rotation_stream(m.twist, m.twist_inv2, q0, q1, q2, s0, s1, s2);
+        const double s0 = q[0][0] + q[0][1] * d0 + q[0][2] * d1 + q[0][3] * d2 + q[0][4] * d00 + q[0][5] * d11 +
+                          q[0][6] * d22 + q[0][7] * d01 + q[0][8] * d02 + q[0][9] * d12;
+        const double s1 = q[1][0] + q[1][1] * d0 + q[1][2] * d1 + q[1][3] * d2 + q[1][4] * d00 + q[1][5] * d11 +
+                          q[1][6] * d22 + q[1][7] * d01 + q[1][8] * d02 + q[1][9] * d12;
+        const double s2 = q[2][0] + q[2][1] * d0 + q[2][2] * d1 + q[2][3] * d2 + q[2][4] * d00 + q[2][5] * d11 +
+                          q[2][6] * d22 + q[2][7] * d01 + q[2][8] * d02 + q[2][9] * d12;
         // v = (1 − b)² ∇e × ∇f − (1 − b) (f ∇e − e ∇f) × ∇b  (eqs. 1–3 expanded).
         const double a = one_minus_b[j];
         ox[j] = a * a * i0 - a * (s1 * gz[j] - s2 * gy[j]);

@@ -19,14 +19,16 @@ struct Lanes3 {
     alignas(64) double z[kFieldLanes];
 };
 
-// One MotionSample ready for the lane loop.
+// One MotionSample ready for the lane loop. The stream vector f ∇e − e ∇f plus
+// the gauge ∇φ is a quadratic polynomial in x (z × U is linear in x, the
+// rotation streams of ω and τ and the gauge are quadratic), so it is expanded
+// once per sample, about the gauge's centre and in its scale, into the
+// coefficients StreamGauge holds: the loop then evaluates one polynomial per
+// coordinate instead of the four terms.
 struct PreparedMotion {
-    double c[3], v[3], w[3];                      // c(t), ċ(t), ω + τ
-    double omega[3], omega_inv2;                  // ω, 1/|ω|² (0 where ω = 0)
-    double twist[3], twist_inv2, twist_origin[3]; // τ, 1/|τ|², the twist stream's origin
-    double o[3], u[3];                            // the stream's origin o, U = ċ + ω × (o − c)
-    double gauge_centre[3], gauge_inverse_scale;  // the gauge ∇φ (field/stream_gauge.h)
-    double gauge[3][10];
+    double c[3], v[3], w[3];                        // c(t), ċ(t), ω + τ
+    double stream_centre[3], stream_inverse_scale;  // the stream vector about its centre:
+    double stream[3][10];                           // StreamGauge's coefficients
     explicit PreparedMotion(const MotionSample& m);
 };
 

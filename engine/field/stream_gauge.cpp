@@ -1,9 +1,11 @@
 #include "field/stream_gauge.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
+#include "base/parallel.h"
 #include "curve/inner_motion.h"
 #include "field/vector_field.h"
 
@@ -65,24 +67,84 @@ Vec3 gauge_gradient(const StreamGauge& g, const Vec3& x) {
     return out;
 }
 
-GaugeFit::GaugeFit(std::vector<GaugeSample> samples) : samples_(std::move(samples)) {
-    if (samples_.empty()) return;
-    for (const GaugeSample& s : samples_) centre_ += s.position;
-    centre_ /= double(samples_.size());
+StreamGauge stream_polynomial(const MotionSample& m, const Vec3& centre, double inverse_scale) {
+    // From its values at d = 0, ±eᵢ and eᵢ + eⱼ, which a quadratic takes exactly.
+    const auto f = [&](const Vec3& d) { return stream_vector(m, centre + d / inverse_scale); };
+    const Vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const Vec3 f0 = f(Vec3(0.0));
+    Vec3 plus[3], minus[3], coefficient[10];
+    coefficient[0] = f0;
+    for (int i = 0; i < 3; ++i) {
+        plus[i] = f(e[i]), minus[i] = f(-e[i]);
+        coefficient[1 + i] = 0.5 * (plus[i] - minus[i]);
+        coefficient[4 + i] = 0.5 * (plus[i] + minus[i]) - f0;
+    }
+    const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+    for (int k = 0; k < 3; ++k) {
+        const int i = pairs[k][0], j = pairs[k][1];
+        coefficient[7 + k] = f(e[i] + e[j]) - plus[i] - plus[j] + f0;
+    }
+    StreamGauge g;
+    g.centre = centre;
+    g.inverse_scale = inverse_scale;
+    for (int k = 0; k < 10; ++k)
+        g.q[0][k] = coefficient[k].x, g.q[1][k] = coefficient[k].y, g.q[2][k] = coefficient[k].z;
+    return g;
+}
+
+namespace {
+
+// One block of samples' share of the normal matrix (lower triangle) and of the
+// right-hand side's map.
+struct FitSums {
+    double a[19][19] = {};
+    Vec3 rhs[19][10] = {};
+};
+
+}  // namespace
+
+GaugeFit::GaugeFit(std::vector<GaugeSample> samples) {
+    if (samples.empty()) return;
+    for (const GaugeSample& s : samples) centre_ += s.position;
+    centre_ /= double(samples.size());
     double spread = 0.0;
-    for (const GaugeSample& s : samples_) spread += glm::dot(s.position - centre_, s.position - centre_);
-    spread = std::sqrt(spread / double(samples_.size()));
+    for (const GaugeSample& s : samples) spread += glm::dot(s.position - centre_, s.position - centre_);
+    spread = std::sqrt(spread / double(samples.size()));
     if (!(spread > 0.0)) return;
     inverse_scale_ = 1.0 / spread;
-    // Normal matrix Σ Jᵀ J, lower triangle, then its Cholesky factor. The ridge
-    // (1e-6 of the mean diagonal) settles the directions no sample constrains,
-    // e.g. a gauge term parallel to every g_i when μ = 0.
+    // Normal matrix Σ Jᵀ J, lower triangle, and the right-hand side's map, per
+    // block of kBlock samples on all threads, then the blocks in order (the same
+    // sums on any number of threads).
+    constexpr std::size_t kBlock = 64;
+    std::vector<FitSums> blocks((samples.size() + kBlock - 1) / kBlock);
+    parallel_for(
+        blocks.size(),
+        [&](std::size_t first, std::size_t last) {
+            for (std::size_t block = first; block < last; ++block) {
+                FitSums& sums = blocks[block];
+                for (std::size_t i = block * kBlock; i < std::min(samples.size(), (block + 1) * kBlock); ++i) {
+                    const SampleBasis r = sample_basis(samples[i], centre_, inverse_scale_);
+                    const Vec3 d = (samples[i].position - centre_) * inverse_scale_;
+                    const double phi[kMonomials] = {1.0,       d.x,       d.y,       d.z,       d.x * d.x,
+                                                    d.y * d.y, d.z * d.z, d.x * d.y, d.x * d.z, d.y * d.z};
+                    for (int k = 0; k < kTerms; ++k) {
+                        for (int l = 0; l <= k; ++l)
+                            sums.a[k][l] += r.g2 * glm::dot(r.b[k], r.b[l]) - r.bg[k] * r.bg[l];
+                        const Vec3 row = r.g2 * r.b[k] - r.bg[k] * samples[i].weight;
+                        for (int m = 0; m < kMonomials; ++m) sums.rhs[k][m] -= phi[m] * row;
+                    }
+                }
+            }
+        },
+        2);
     double a[kTerms][kTerms] = {};
-    for (const GaugeSample& s : samples_) {
-        const SampleBasis r = sample_basis(s, centre_, inverse_scale_);
-        for (int k = 0; k < kTerms; ++k)
-            for (int l = 0; l <= k; ++l) a[k][l] += r.g2 * glm::dot(r.b[k], r.b[l]) - r.bg[k] * r.bg[l];
-    }
+    for (const FitSums& sums : blocks)
+        for (int k = 0; k < kTerms; ++k) {
+            for (int l = 0; l <= k; ++l) a[k][l] += sums.a[k][l];
+            for (int m = 0; m < kMonomials; ++m) rhs_[k][m] += sums.rhs[k][m];
+        }
+    // The ridge (1e-6 of the mean diagonal) settles the directions no sample
+    // constrains, e.g. a gauge term parallel to every g_i when μ = 0.
     double trace = 0.0;
     for (int k = 0; k < kTerms; ++k) trace += a[k][k];
     if (!(trace > 0.0)) return;
@@ -105,14 +167,12 @@ StreamGauge GaugeFit::gauge_for(const MotionSample& motion) const {
     if (!solvable_) return {};
     MotionSample m = motion;
     m.gauge = StreamGauge{};
-    // Right-hand side −Σ Jᵀ r0, r0 the residual of the paper's stream.
+    // Right-hand side −Σ Jᵀ r0, r0 the residual of the paper's stream S = Σₘ Qₘ φₘ.
+    const StreamGauge stream = stream_polynomial(m, centre_, inverse_scale_);
     double c[kTerms] = {};
-    for (const GaugeSample& s : samples_) {
-        const Vec3 stream = stream_vector(m, s.position);
-        const SampleBasis r = sample_basis(s, centre_, inverse_scale_);
-        const Vec3 v = r.g2 * stream - glm::dot(s.weight, stream) * s.weight;
-        for (int k = 0; k < kTerms; ++k) c[k] -= glm::dot(r.b[k], v);
-    }
+    for (int k = 0; k < kTerms; ++k)
+        for (int m = 0; m < kMonomials; ++m)
+            c[k] += glm::dot(rhs_[k][m], Vec3(stream.q[0][m], stream.q[1][m], stream.q[2][m]));
     for (int i = 0; i < kTerms; ++i) {  // L y = rhs
         for (int k = 0; k < i; ++k) c[i] -= cholesky_[i][k] * c[k];
         c[i] /= cholesky_[i][i];

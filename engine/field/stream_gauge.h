@@ -41,17 +41,25 @@ struct StreamGauge {
 // ∇φ(x).
 Vec3 gauge_gradient(const StreamGauge& gauge, const Vec3& x);
 
+struct MotionSample;
+
+// The stream vector S(x) + ∇φ(x) of m (vector_field.h's stream_vector, m's gauge
+// included) is itself a quadratic polynomial in x: z × U is linear, the rotation
+// streams of ω and τ and the gauge are quadratic. Its coefficients, as a
+// StreamGauge about `centre` in d = (x − centre) · inverse_scale.
+StreamGauge stream_polynomial(const MotionSample& m, const Vec3& centre, double inverse_scale);
+
 // One sample of the blend region: its position and (1 − b) ∇b there.
 struct GaugeSample {
     Vec3 position{0.0};
     Vec3 weight{0.0};
 };
 
-struct MotionSample;
-
 // The least-squares fit above over a set of samples: the normal matrix depends
 // on the samples alone, so it is built and factored once and serves the three
-// motion samples of an RK4 step.
+// motion samples of an RK4 step. So does the right-hand side, but for S: with
+// S = Σₘ Qₘ φₘ(d) (stream_polynomial, φₘ its ten monomials) it is a fixed linear
+// map of the Qₘ, summed over the samples once; a gauge then costs no pass over them.
 class GaugeFit {
 public:
     // μ of the objective: how much a small stream counts against a small S × g.
@@ -62,11 +70,13 @@ public:
     StreamGauge gauge_for(const MotionSample& m) const;
 
 private:
-    static constexpr int kTerms = 19;  // gradients of the 3 linear, 6 quadratic and 10 cubic monomials
-    std::vector<GaugeSample> samples_;
+    static constexpr int kTerms = 19;      // gradients of the 3 linear, 6 quadratic and 10 cubic monomials
+    static constexpr int kMonomials = 10;  // of a StreamGauge's quadratic polynomials
     Vec3 centre_{0.0};
     double inverse_scale_ = 1.0;
     double cholesky_[kTerms][kTerms] = {};
+    // The right-hand side's map: −Σ_i φₘ(dᵢ) ((1 + μ) |gᵢ|² b_k − (b_k · gᵢ) gᵢ), b_k at dᵢ.
+    Vec3 rhs_[kTerms][kMonomials] = {};
     bool solvable_ = false;
 };
 
