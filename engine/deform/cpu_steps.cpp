@@ -8,6 +8,7 @@
 #include "base/parallel.h"
 #include "field/stream_gauge.h"
 #include "field/vector_field.h"
+#include "mesh/geometry.h"
 #include "mesh/vertex_order.h"
 
 namespace vfsd {
@@ -98,7 +99,12 @@ void CpuSteps::step(double time, double h, int step) {
         check_finite(next_, step, time);
     }
     positions_.swap(next_);
+    const std::size_t repaired = fold_repair_.stats().steps_repaired;
     fold_repair_.repair(positions_, rings_);
+    // A repair moves vertices up to an edge: the keeper's ∂V/∂x from the step's
+    // midpoint no longer describes their rings, so it is taken where they are.
+    if (fold_repair_.stats().steps_repaired != repaired && volume_.active())
+        ring_area_vectors(positions_, rings_, parts_.blend, area_vectors_);
     // The volume drift is undone after every step, while it is small and smooth
     // (restoring it every few steps folded thin features); it is then part of
     // the step's map, and a step back undoes it as well.

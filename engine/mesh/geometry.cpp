@@ -57,6 +57,14 @@ Vec3 ring_area_vector(const std::vector<Vec3>& positions, const VertexRings& rin
     return sum;
 }
 
+void ring_area_vectors(const std::vector<Vec3>& positions, const VertexRings& rings,
+                       const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& area_vectors) {
+    area_vectors.resize(vertices.size());
+    parallel_for(vertices.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) area_vectors[i] = ring_area_vector(positions, rings, vertices[i]);
+    });
+}
+
 void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals) {
     normals.resize(positions.size());
     parallel_for(rings.vertex_count(), [&](std::size_t first, std::size_t last) {
