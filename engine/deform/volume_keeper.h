@@ -36,7 +36,8 @@ public:
     // Moves the blend vertices of `positions` so that the volume is the rest
     // volume again (to first order in the drift and in the rings' change over
     // the step); returns the drift it undid. area_vectors[i] is blend vertex i's
-    // ring area vector (6 ∂V/∂x) where the step estimated its normals.
+    // ring area vector (6 ∂V/∂x) where the step estimated its normals, or where
+    // the fold repair left it.
     double restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors) const;
 
 private:

@@ -12,7 +12,8 @@
 namespace vfsd {
 namespace {
 
-constexpr int kTerms = 19;
+constexpr int kTerms = 19;      // gradients of the 3 linear, 6 quadratic and 10 cubic monomials
+constexpr int kMonomials = 10;  // of a StreamGauge's quadratic polynomials
 
 // ∇ of the monomials of degree 1–3 in d: x, y, z; x²/2, y²/2, z²/2, xy, xz, yz;
 // x³/3, y³/3, z³/3, x²y, x²z, y²x, y²z, z²x, z²y, xyz.
@@ -97,8 +98,8 @@ namespace {
 // One block of samples' share of the normal matrix (lower triangle) and of the
 // right-hand side's map.
 struct FitSums {
-    double a[19][19] = {};
-    Vec3 rhs[19][10] = {};
+    double a[kTerms][kTerms] = {};
+    Vec3 rhs[kTerms][kMonomials] = {};
 };
 
 }  // namespace
@@ -131,7 +132,7 @@ GaugeFit::GaugeFit(std::vector<GaugeSample> samples) {
                         for (int l = 0; l <= k; ++l)
                             sums.a[k][l] += r.g2 * glm::dot(r.b[k], r.b[l]) - r.bg[k] * r.bg[l];
                         const Vec3 row = r.g2 * r.b[k] - r.bg[k] * samples[i].weight;
-                        for (int m = 0; m < kMonomials; ++m) sums.rhs[k][m] -= phi[m] * row;
+                        for (int j = 0; j < kMonomials; ++j) sums.rhs[k][j] -= phi[j] * row;
                     }
                 }
             }
@@ -141,7 +142,7 @@ GaugeFit::GaugeFit(std::vector<GaugeSample> samples) {
     for (const FitSums& sums : blocks)
         for (int k = 0; k < kTerms; ++k) {
             for (int l = 0; l <= k; ++l) a[k][l] += sums.a[k][l];
-            for (int m = 0; m < kMonomials; ++m) rhs_[k][m] += sums.rhs[k][m];
+            for (int j = 0; j < kMonomials; ++j) rhs_[k][j] += sums.rhs[k][j];
         }
     // The ridge (1e-6 of the mean diagonal) settles the directions no sample
     // constrains, e.g. a gauge term parallel to every g_i when μ = 0.
@@ -171,8 +172,8 @@ StreamGauge GaugeFit::gauge_for(const MotionSample& motion) const {
     const StreamGauge stream = stream_polynomial(m, centre_, inverse_scale_);
     double c[kTerms] = {};
     for (int k = 0; k < kTerms; ++k)
-        for (int m = 0; m < kMonomials; ++m)
-            c[k] += glm::dot(rhs_[k][m], Vec3(stream.q[0][m], stream.q[1][m], stream.q[2][m]));
+        for (int j = 0; j < kMonomials; ++j)
+            c[k] += glm::dot(rhs_[k][j], Vec3(stream.q[0][j], stream.q[1][j], stream.q[2][j]));
     for (int i = 0; i < kTerms; ++i) {  // L y = rhs
         for (int k = 0; k < i; ++k) c[i] -= cholesky_[i][k] * c[k];
         c[i] /= cholesky_[i][i];

@@ -71,7 +71,7 @@ public:
 
 private:
     static constexpr int kTerms = 19;      // gradients of the 3 linear, 6 quadratic and 10 cubic monomials
-    static constexpr int kMonomials = 10;  // of a StreamGauge's quadratic polynomials
+    static constexpr int kMonomials = 10;  // of a StreamGauge's quadratic polynomials (stream_gauge.cpp has both too)
     Vec3 centre_{0.0};
     double inverse_scale_ = 1.0;
     double cholesky_[kTerms][kTerms] = {};
