@@ -1,5 +1,8 @@
 #include "deform/volume_keeper.h"
 
+#include <stdexcept>
+#include <string>
+
 #include <glm/geometric.hpp>
 
 #include "base/parallel.h"
@@ -45,7 +48,10 @@ double VolumeKeeper::volume(const std::vector<Vec3>& positions) const {
 }
 
 double VolumeKeeper::restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors) const {
-    if (!active_ || area_vectors.size() != blend_.size()) return 0.0;
+    if (!active_) return 0.0;
+    if (area_vectors.size() != blend_.size())
+        throw std::invalid_argument("VolumeKeeper::restore: " + std::to_string(area_vectors.size()) +
+                                    " area vectors for " + std::to_string(blend_.size()) + " blend vertices");
     const double drift = volume(positions) - rest_volume_;
     const auto weighted_square = [&](std::size_t i) {  // w |6 ∂V/∂x|² at blend vertex i
         return weight_[i] * glm::dot(area_vectors[i], area_vectors[i]);

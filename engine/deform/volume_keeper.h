@@ -37,7 +37,8 @@ public:
     // volume again (to first order in the drift and in the rings' change over
     // the step); returns the drift it undid. area_vectors[i] is blend vertex i's
     // ring area vector (6 ∂V/∂x) where the step estimated its normals, or where
-    // the fold repair left it.
+    // the fold repair left it; std::invalid_argument if there is not one per
+    // blend vertex (a caller's bug, not the user's).
     double restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors) const;
 
 private:

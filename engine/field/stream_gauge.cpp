@@ -27,6 +27,13 @@ void monomial_gradients(const Vec3& d, Vec3 (&b)[kTerms]) {
     b[18] = {y * z, x * z, x * y};
 }
 
+// StreamGauge's quadratic monomials at d, in its order.
+void quadratic_monomials(const Vec3& d, double (&m)[kMonomials]) {
+    const double values[kMonomials] = {1.0,       d.x,       d.y,       d.z,       d.x * d.x,
+                                       d.y * d.y, d.z * d.z, d.x * d.y, d.x * d.z, d.y * d.z};
+    for (int k = 0; k < kMonomials; ++k) m[k] = values[k];
+}
+
 // The gauge with coefficients c of the monomial gradients, as StreamGauge's
 // quadratic polynomials (1, dx, dy, dz, dx², dy², dz², dx dy, dx dz, dy dz).
 StreamGauge expand(const Vec3& centre, double inverse_scale, const double (&c)[kTerms]) {
@@ -61,10 +68,10 @@ SampleBasis sample_basis(const GaugeSample& s, const Vec3& centre, double invers
 }  // namespace
 
 Vec3 gauge_gradient(const StreamGauge& g, const Vec3& x) {
-    const Vec3 d = (x - g.centre) * g.inverse_scale;
-    const double m[10] = {1.0, d.x, d.y, d.z, d.x * d.x, d.y * d.y, d.z * d.z, d.x * d.y, d.x * d.z, d.y * d.z};
+    double m[kMonomials];
+    quadratic_monomials((x - g.centre) * g.inverse_scale, m);
     Vec3 out(0.0);
-    for (int k = 0; k < 10; ++k) out += m[k] * Vec3(g.q[0][k], g.q[1][k], g.q[2][k]);
+    for (int k = 0; k < kMonomials; ++k) out += m[k] * Vec3(g.q[0][k], g.q[1][k], g.q[2][k]);
     return out;
 }
 
@@ -125,9 +132,8 @@ GaugeFit::GaugeFit(std::vector<GaugeSample> samples) {
                 FitSums& sums = blocks[block];
                 for (std::size_t i = block * kBlock; i < std::min(samples.size(), (block + 1) * kBlock); ++i) {
                     const SampleBasis r = sample_basis(samples[i], centre_, inverse_scale_);
-                    const Vec3 d = (samples[i].position - centre_) * inverse_scale_;
-                    const double phi[kMonomials] = {1.0,       d.x,       d.y,       d.z,       d.x * d.x,
-                                                    d.y * d.y, d.z * d.z, d.x * d.y, d.x * d.z, d.y * d.z};
+                    double phi[kMonomials];
+                    quadratic_monomials((samples[i].position - centre_) * inverse_scale_, phi);
                     for (int k = 0; k < kTerms; ++k) {
                         for (int l = 0; l <= k; ++l)
                             sums.a[k][l] += r.g2 * glm::dot(r.b[k], r.b[l]) - r.bg[k] * r.bg[l];

@@ -1,0 +1,99 @@
+// The volume keeper (deform/volume_keeper.h): it measures the closed mesh's
+// volume as signed_volume does, undoes a small drift of the blend region to
+// second order in it, moves nothing outside the blend region, does nothing on an
+// open surface, and refuses area vectors that do not match its blend region.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+#include "deform/passes.h"
+#include "deform/volume_keeper.h"
+#include "mesh/builtin_meshes.h"
+#include "mesh/geometry.h"
+#include "mesh_fixtures.h"
+
+using namespace vfsd;
+
+namespace {
+
+// s rising with height from 0 (inner) below z0 to 1 (outer) above z1.
+std::vector<double> s_by_height(const std::vector<Vec3>& positions, double z0, double z1) {
+    std::vector<double> s;
+    for (const Vec3& p : positions) s.push_back(std::clamp((p.z - z0) / (z1 - z0), 0.0, 1.0));
+    return s;
+}
+
+// Every blend vertex moved by up to `size` in a random direction.
+std::vector<Vec3> jiggled(std::vector<Vec3> positions, const std::vector<std::uint32_t>& blend, double size,
+                          std::mt19937& random) {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (const std::uint32_t v : blend) positions[v] += size * Vec3(unit(random), unit(random), unit(random));
+    return positions;
+}
+
+}  // namespace
+
+TEST_CASE("the volume keeper undoes a blend region's drift to second order and moves nothing else", "[volume_keeper]") {
+    const TriangleMesh mesh = make_builtin_mesh("sphere", 3);
+    const VertexRings rings = build_vertex_rings(mesh);
+    const std::vector<double> s = s_by_height(mesh.positions, -0.3, 0.4);
+    const RegionParts parts = RegionParts::of(s, rings);
+    REQUIRE(!parts.blend.empty());
+    const VolumeKeeper keeper(mesh.positions, s, rings, parts.blend);
+    REQUIRE(keeper.active());
+    const double rest = signed_volume(mesh.positions, mesh.triangles);
+    CHECK(keeper.rest_volume() == Approx(rest).epsilon(1e-12));
+
+    std::mt19937 random(14);
+    for (int trial = 0; trial < 20; ++trial) {
+        const double size = 1e-3 * (1 + trial % 4);
+        const std::vector<Vec3> before = jiggled(mesh.positions, parts.blend, size, random);
+        std::vector<Vec3> after = before;
+        std::vector<Vec3> area_vectors;
+        ring_area_vectors(before, rings, parts.blend, area_vectors);
+        const double drift = keeper.restore(after, area_vectors);
+        CHECK(drift == Approx(signed_volume(before, mesh.triangles) - rest).epsilon(1e-9));
+        // One Newton step: what is left is second order in the move.
+        const double left = signed_volume(after, mesh.triangles) - rest;
+        CHECK(std::abs(left) <= 1e-2 * std::abs(drift) + 1e-14);
+        for (std::size_t v = 0; v < s.size(); ++v)
+            if (s[v] == 0.0 || s[v] == 1.0) REQUIRE(after[v] == before[v]);  // bit for bit
+    }
+}
+
+TEST_CASE("the volume keeper does nothing on an open surface", "[volume_keeper]") {
+    const TriangleMesh mesh = fixtures::grid(6, 6);
+    const VertexRings rings = build_vertex_rings(mesh);
+    std::vector<double> s;
+    for (const Vec3& p : mesh.positions) s.push_back(std::clamp((p.x - 1.0) / 4.0, 0.0, 1.0));
+    const RegionParts parts = RegionParts::of(s, rings);
+    const VolumeKeeper keeper(mesh.positions, s, rings, parts.blend);
+    CHECK_FALSE(keeper.active());
+    std::vector<Vec3> positions = mesh.positions;
+    for (const std::uint32_t v : parts.blend) positions[v].z += 0.1;
+    const std::vector<Vec3> before = positions;
+    std::vector<Vec3> area_vectors;
+    ring_area_vectors(positions, rings, parts.blend, area_vectors);
+    CHECK(keeper.restore(positions, area_vectors) == 0.0);
+    CHECK(positions == before);
+}
+
+TEST_CASE("the volume keeper refuses area vectors that are not one per blend vertex", "[volume_keeper]") {
+    const TriangleMesh mesh = make_builtin_mesh("sphere", 2);
+    const VertexRings rings = build_vertex_rings(mesh);
+    const std::vector<double> s = s_by_height(mesh.positions, -0.3, 0.4);
+    const RegionParts parts = RegionParts::of(s, rings);
+    const VolumeKeeper keeper(mesh.positions, s, rings, parts.blend);
+    REQUIRE(keeper.active());
+    std::vector<Vec3> positions = mesh.positions;
+    std::vector<Vec3> area_vectors;
+    ring_area_vectors(positions, rings, parts.blend, area_vectors);
+    area_vectors.pop_back();
+    CHECK_THROWS_AS(keeper.restore(positions, area_vectors), std::invalid_argument);
+    CHECK(positions == mesh.positions);
+}
