@@ -89,6 +89,7 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"mirrored", b.placement.mirrors()},
             {"offset_over_diagonal", glm::length(b.placement.offset) / bounding_box(b.mesh.mesh.positions).diagonal()},
             {"flipped_triangles", o.quality.flipped_triangles},
+            {"reversed_triangles", o.quality.reversed_triangles},
             {"first_fold_time", o.first_fold_time},
             {"volume_error_percent", o.quality.volume_error_percent},
             {"volume_change_percent", o.quality.volume_change_percent},
@@ -137,16 +138,18 @@ void write_worst(const std::filesystem::path& dir, int rank, const Outcome& o) {
 void write_csv(const std::filesystem::path& path, const std::vector<Outcome>& outcomes) {
     std::ofstream out(path);
     out << "name,vertices,region,motion,inner_motion,bend_degrees,twist_degrees,scale,mirrored,flipped_triangles,"
-           "first_fold_time,volume_error_percent,volume_change_percent,outer_max_displacement,inner_rigid_residual,"
+           "reversed_triangles,first_fold_time,volume_error_percent,volume_change_percent,outer_max_displacement,inner_"
+           "rigid_residual,"
            "ms_per_step,fold_repair_steps,fold_repair_max_shift_over_diagonal,passed\n";
     for (const Outcome& o : outcomes) {
         const nlohmann::json j = outcome_json(o);
         out << j["name"].get<std::string>() << ',' << j["vertices"] << ',' << j["region"].get<std::string>() << ','
             << j["motion"].get<std::string>() << ',' << j["inner_motion"].get<std::string>() << ',' << j["bend_degrees"]
             << ',' << j["twist_degrees"] << ',' << j["scale"] << ',' << j["mirrored"] << ',' << j["flipped_triangles"]
-            << ',' << j["first_fold_time"] << ',' << j["volume_error_percent"] << ',' << j["volume_change_percent"]
-            << ',' << j["outer_max_displacement"] << ',' << j["inner_rigid_residual"] << ',' << j["ms_per_step"] << ','
-            << j["fold_repair_steps"] << ',' << j["fold_repair_max_shift_over_diagonal"] << ',' << j["passed"] << '\n';
+            << ',' << j["reversed_triangles"] << ',' << j["first_fold_time"] << ',' << j["volume_error_percent"] << ','
+            << j["volume_change_percent"] << ',' << j["outer_max_displacement"] << ',' << j["inner_rigid_residual"]
+            << ',' << j["ms_per_step"] << ',' << j["fold_repair_steps"] << ','
+            << j["fold_repair_max_shift_over_diagonal"] << ',' << j["passed"] << '\n';
     }
 }
 
@@ -218,18 +221,19 @@ int run_battery(const Args& args) {
         outcomes.push_back(run_scene(std::move(b)));
         const Outcome& o = outcomes.back();
         std::printf(
-            "%-48s %7zu v  folds %5zu  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step  repaired %3zu "
+            "%-48s %7zu v  folds %5zu (reversed %5zu)  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step  "
+            "repaired %3zu "
             "steps (%.1e D)%s%s\n",
             o.battery.name.c_str(), o.battery.mesh.mesh.vertex_count(), o.quality.flipped_triangles,
-            o.quality.volume_change_percent, o.quality.outer_max_displacement, o.quality.inner_rigid_residual,
-            o.ms_per_step, o.repairs.steps_repaired, o.repair_shift_over_diagonal,
+            o.quality.reversed_triangles, o.quality.volume_change_percent, o.quality.outer_max_displacement,
+            o.quality.inner_rigid_residual, o.ms_per_step, o.repairs.steps_repaired, o.repair_shift_over_diagonal,
             o.error.empty() ? "" : "  error: ", o.error.c_str());
         std::fflush(stdout);
     }
 
     nlohmann::json scenes = nlohmann::json::array();
     std::vector<double> volume, ms;
-    std::size_t folded = 0, folds = 0, failed = 0, repaired = 0;
+    std::size_t folded = 0, folds = 0, failed = 0, repaired = 0, reversed_scenes = 0, reversed = 0;
     double outer = 0.0, inner = 0.0, shift = 0.0;
     for (const Outcome& o : outcomes) {
         scenes.push_back(outcome_json(o));
@@ -237,6 +241,8 @@ int run_battery(const Args& args) {
         ms.push_back(o.ms_per_step);
         folded += o.quality.flipped_triangles > 0;
         folds += o.quality.flipped_triangles;
+        reversed_scenes += o.quality.reversed_triangles > 0;
+        reversed += o.quality.reversed_triangles;
         failed += o.failed();
         outer = std::max(outer, o.quality.outer_max_displacement);
         inner = std::max(inner, o.quality.inner_rigid_residual);
@@ -250,6 +256,8 @@ int run_battery(const Args& args) {
                                     {"scenes_failed", failed},
                                     {"scenes_with_folds", folded},
                                     {"flipped_triangles", folds},
+                                    {"scenes_with_reversed_triangles", reversed_scenes},
+                                    {"reversed_triangles", reversed},
                                     {"volume_error_percent_median", percentile(volume, 0.5)},
                                     {"volume_error_percent_p95", percentile(volume, 0.95)},
                                     {"volume_error_percent_max", percentile(volume, 1.0)},

@@ -108,6 +108,7 @@ nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const D
             {"inner_vertices", q.inner_vertices},
             {"outer_vertices", q.outer_vertices},
             {"flipped_triangles", q.flipped_triangles},
+            {"reversed_triangles", q.reversed_triangles},  // deform/quality.h: exact for affine maps
             {"nonfinite_vertices", q.nonfinite_vertices},
             // deform/fold_repair.h: steps after which it placed vertices again, and its largest move
             {"fold_repair_steps", repairs.steps_repaired},

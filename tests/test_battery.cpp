@@ -125,8 +125,8 @@ TEST_CASE("battery at a quarter amplitude: no folds, outer in place, inner rigid
     for (int index = 0; index < kScenes; ++index) {
         const BatteryScene b = generate_battery_scene(kSeed, index, sources(), 0.25);
         const Run run = deform(b, b.scene.options);
-        std::printf("battery 1/4 %-40s folds %3zu volume %.2e %%\n", b.name.c_str(), run.quality.flipped_triangles,
-                    run.quality.volume_error_percent);
+        std::printf("battery 1/4 %-40s folds %3zu (reversed %3zu) volume %.2e %%\n", b.name.c_str(),
+                    run.quality.flipped_triangles, run.quality.reversed_triangles, run.quality.volume_error_percent);
         check_promises(b, run.quality);
         CHECK(run.quality.flipped_triangles == 0);
         folds += run.quality.flipped_triangles;

@@ -58,7 +58,7 @@ TEST_CASE("vfsd deform writes the deformed mesh in the input's layout and a repo
     const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir.file("r.json")));
     for (const char* key : {"vertices", "triangles", "steps", "backend", "ms_per_step", "total_ms", "volume_before",
                             "volume_after", "volume_error_percent", "outer_max_displacement", "inner_rigid_residual",
-                            "flipped_triangles", "nonfinite_vertices"})
+                            "flipped_triangles", "reversed_triangles", "nonfinite_vertices"})
         CHECK(report.contains(key));
     CHECK(report["vertices"] == 8);
     CHECK(report["steps"] == 40);

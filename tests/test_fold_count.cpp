@@ -4,10 +4,15 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "deform/quality.h"
 #include "mesh/builtin_meshes.h"
+#include "mesh/geometry.h"
 
 using namespace vfsd;
 
@@ -70,4 +75,79 @@ TEST_CASE("the fold count finds the triangles a deformation turned over, and onl
     std::vector<Vec3> moved = sphere.positions;
     for (Vec3& p : moved) p = 3.0 * Vec3(-p.y, p.x, p.z) + Vec3(10.0, -4.0, 2.0);
     CHECK(flipped_triangle_list(sphere.positions, moved, sphere.triangles).empty());
+}
+
+namespace {
+
+// A unit sphere whose vertices are moved radially by up to ±`roughness`: a
+// scanned surface's bumps at the scale of one triangle.
+TriangleMesh rough_sphere(double roughness, std::mt19937& random) {
+    TriangleMesh m = make_builtin_mesh("sphere", 3);
+    std::uniform_real_distribution<double> bump(-roughness, roughness);
+    for (Vec3& p : m.positions) p *= 1.0 + bump(random);
+    return m;
+}
+
+// x ↦ A x + t: a rotation times stretches of σ and 1/σ along random axes (volume kept).
+std::vector<Vec3> stretched(const std::vector<Vec3>& x, double sigma, std::mt19937& random) {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const auto axis = [&] { return glm::normalize(Vec3(unit(random), unit(random), unit(random)) + Vec3(1e-9)); };
+    const glm::dmat3 turn(glm::rotate(glm::dmat4(1.0), 3.0 * unit(random), axis()));
+    const glm::dmat3 frame(glm::rotate(glm::dmat4(1.0), 3.0 * unit(random), axis()));
+    const glm::dmat3 a = turn * frame * glm::dmat3(sigma, 0, 0, 0, 1.0 / sigma, 0, 0, 0, 1.0) * glm::transpose(frame);
+    const Vec3 t(unit(random), unit(random), unit(random));
+    std::vector<Vec3> out;
+    for (const Vec3& p : x) out.push_back(a * p + 100.0 * t);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("no affine map reverses a triangle, however rough the mesh", "[quality]") {
+    std::mt19937 random(10);
+    std::size_t tipped = 0;  // what the neighbour measure counts under the same maps
+    for (int trial = 0; trial < 12; ++trial) {
+        const TriangleMesh mesh = rough_sphere(0.02 * (trial % 4), random);
+        const double sigma = 1.0 + 0.5 * (trial % 5);  // up to 3
+        const std::vector<Vec3> after = stretched(mesh.positions, sigma, random);
+        INFO("trial " << trial << ", stretch " << sigma);
+        CHECK(reversed_triangle_list(mesh.positions, after, mesh.triangles).empty());
+        tipped += count_flipped_triangles(mesh.positions, after, mesh.triangles);
+    }
+    // Not a property of the new measure: the reason it exists. The rough spheres'
+    // bumps tip past their neighbours' mean under the stronger stretches.
+    INFO("the neighbour measure counted " << tipped << " triangles");
+    CHECK(tipped > 0);
+}
+
+TEST_CASE("a smooth twist reverses no triangle of a fine mesh", "[quality]") {
+    const TriangleMesh mesh = make_builtin_mesh("cylinder", 48);
+    const BoundingBox box = bounding_box(mesh.positions);
+    std::vector<Vec3> after;
+    for (const Vec3& p : mesh.positions) {  // half a turn from the bottom to the top
+        const double angle = 3.14159265358979 * (p.z - box.min.z) / (box.max.z - box.min.z);
+        after.push_back(
+            Vec3(std::cos(angle) * p.x - std::sin(angle) * p.y, std::sin(angle) * p.x + std::cos(angle) * p.y, p.z));
+    }
+    CHECK(reversed_triangle_list(mesh.positions, after, mesh.triangles).empty());
+}
+
+TEST_CASE("a vertex pushed past its ring reverses triangles around it, a small move none", "[quality]") {
+    const TriangleMesh mesh = make_builtin_mesh("sphere", 3);
+    std::mt19937 random(3);
+    for (int trial = 0; trial < 10; ++trial) {
+        const Triangle& picked = mesh.triangles[random() % mesh.triangles.size()];
+        const std::uint32_t v = picked[0], w = picked[1];  // an edge v–w
+        const Vec3 across = mesh.positions[w] - mesh.positions[v];
+        std::vector<Vec3> after = mesh.positions;
+        after[v] = mesh.positions[w] + 0.5 * across;  // past its neighbour w, along the surface
+        const std::vector<std::uint32_t> reversed = reversed_triangle_list(mesh.positions, after, mesh.triangles);
+        REQUIRE(!reversed.empty());
+        for (const std::uint32_t t : reversed) {
+            const Triangle& tri = mesh.triangles[t];
+            CHECK((tri[0] == v || tri[1] == v || tri[2] == v));
+        }
+        after[v] = mesh.positions[v] + 0.1 * across;  // a tenth of the edge: nothing turns
+        CHECK(reversed_triangle_list(mesh.positions, after, mesh.triangles).empty());
+    }
 }

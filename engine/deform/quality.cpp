@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 
+#include <glm/matrix.hpp>
+
+#include "base/parallel.h"
 #include "base/rigid_fit.h"
 #include "mesh/geometry.h"
 
@@ -130,6 +133,82 @@ FoldWhere locate_folds(const std::vector<Vec3>& before, const std::vector<Triang
     return w;
 }
 
+namespace {
+
+// Vertex v's neighbours through `triangles`, v itself included: list[offsets[v]] .. list[offsets[v + 1] - 1].
+struct VertexStars {
+    std::vector<std::uint32_t> offsets, list;
+};
+
+VertexStars vertex_stars(std::size_t vertices, const std::vector<Triangle>& triangles) {
+    std::vector<std::vector<std::uint32_t>> star(vertices);
+    for (std::uint32_t v = 0; v < vertices; ++v) star[v].push_back(v);
+    for (const Triangle& t : triangles)
+        for (int k = 0; k < 3; ++k) star[t[k]].push_back(t[(k + 1) % 3]), star[t[k]].push_back(t[(k + 2) % 3]);
+    VertexStars out;
+    out.offsets.push_back(0);
+    for (auto& s : star) {
+        std::sort(s.begin(), s.end());
+        s.erase(std::unique(s.begin(), s.end()), s.end());
+        out.list.insert(out.list.end(), s.begin(), s.end());
+        out.offsets.push_back(static_cast<std::uint32_t>(out.list.size()));
+    }
+    return out;
+}
+
+// Whether triangle t's image faces against the one the affine fit of its corners'
+// stars gives it. The fit, about the points' centres, minimises
+// Σ |A pᵢ − qᵢ|² + λ |A n − R n|², n the triangle's unit normal before and R the
+// points' best rotation: a star is nearly flat, so its own points leave A's action
+// on n free, and a small λ (10⁻³ Σ |pᵢ|²) fills it in without biasing the rest.
+bool reversed(const std::vector<Vec3>& before, const std::vector<Vec3>& after, const Triangle& t,
+              const VertexStars& stars) {
+    const Vec3 u = before[t[1]] - before[t[0]], w = before[t[2]] - before[t[0]];
+    const Vec3 area = glm::cross(u, w);
+    if (!(glm::length(area) > 0.0)) return false;
+    std::vector<Vec3> from, to;
+    for (int k = 0; k < 3; ++k)
+        for (std::uint32_t i = stars.offsets[t[k]]; i < stars.offsets[t[k] + 1]; ++i)
+            from.push_back(before[stars.list[i]]), to.push_back(after[stars.list[i]]);
+    Vec3 from_centre(0.0), to_centre(0.0);
+    for (std::size_t i = 0; i < from.size(); ++i) from_centre += from[i], to_centre += to[i];
+    from_centre /= double(from.size()), to_centre /= double(from.size());
+    glm::dmat3 qp(0.0), pp(0.0);
+    double size = 0.0;
+    for (std::size_t i = 0; i < from.size(); ++i) {
+        const Vec3 p = from[i] - from_centre, q = to[i] - to_centre;
+        qp += glm::outerProduct(q, p), pp += glm::outerProduct(p, p), size += glm::dot(p, p);
+    }
+    const Vec3 n = glm::normalize(area);
+    const double lambda = 1e-3 * size;
+    const Vec3 turned = fit_rigid(from, to).rotation * n;
+    const glm::dmat3 a =
+        (qp + lambda * glm::outerProduct(turned, n)) * glm::inverse(pp + lambda * glm::outerProduct(n, n));
+    const Vec3 predicted = glm::cross(a * u, a * w);
+    const Vec3 image = glm::cross(after[t[1]] - after[t[0]], after[t[2]] - after[t[0]]);
+    return glm::dot(predicted, image) <= 0.0;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> reversed_triangle_list(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
+                                                  const std::vector<Triangle>& triangles) {
+    const VertexStars stars = vertex_stars(before.size(), triangles);
+    std::vector<std::uint8_t> flags(triangles.size(), 0);
+    parallel_for(triangles.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t t = first; t < last; ++t) {
+            const Triangle& tri = triangles[t];
+            const bool moved =
+                after[tri[0]] != before[tri[0]] || after[tri[1]] != before[tri[1]] || after[tri[2]] != before[tri[2]];
+            flags[t] = moved && reversed(before, after, tri, stars);
+        }
+    });
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t t = 0; t < triangles.size(); ++t)
+        if (flags[t]) out.push_back(t);
+    return out;
+}
+
 DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
                                    const std::vector<Triangle>& triangles, const std::vector<double>& s) {
     DeformationQuality q;
@@ -157,6 +236,7 @@ DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::v
     if (!inner_before.empty() && diagonal > 0.0)
         q.inner_rigid_residual = fit_rigid(inner_before, inner_after).rms_residual / diagonal;
     q.flipped_triangles = count_flipped_triangles(before, after, triangles);
+    q.reversed_triangles = reversed_triangle_list(before, after, triangles).size();
     return q;
 }
 

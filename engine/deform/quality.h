@@ -25,6 +25,7 @@ struct DeformationQuality {
     std::size_t inner_vertices = 0;
     std::size_t outer_vertices = 0;
     std::size_t flipped_triangles = 0;
+    std::size_t reversed_triangles = 0;  // reversed_triangle_list's count
     std::size_t nonfinite_vertices = 0;
 };
 
@@ -70,5 +71,15 @@ FoldWhere locate_folds(const std::vector<Vec3>& before, const std::vector<Triang
 // in `after` but not in `before`: local foldovers the deformation created.
 std::size_t count_flipped_triangles(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
                                     const std::vector<Triangle>& triangles);
+
+// A second measure of local folds, exact for affine maps: the triangles whose
+// image in `after` faces against the image that the best affine map of their
+// corners' 1-rings (before → after, least squares) gives them. An affine map with
+// positive determinant folds nothing, and this counts 0 under any such map on any
+// mesh, where count_flipped_triangles also counts triangles of a rough surface
+// that a stretch tips past their neighbours' mean (docs/method.md, "What the
+// remaining folds are"). A triangle of zero area before is not counted.
+std::vector<std::uint32_t> reversed_triangle_list(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
+                                                  const std::vector<Triangle>& triangles);
 
 }  // namespace vfsd
