@@ -280,11 +280,11 @@ int run_battery(const Args& args) {
     for (int k = 0; k < worst && k < int(order.size()); ++k) write_worst(dir, k + 1, *order[k]);
 
     std::printf(
-        "battery seed %d, amplitude %g, scheme %s: %zu scenes, %zu failed, %zu with folds (%zu triangles); volume "
-        "error median %.4f%%, "
+        "battery seed %d, amplitude %g, scheme %s: %zu scenes, %zu failed, %zu with folds (%zu triangles), %zu with "
+        "reversed triangles (%zu); volume error median %.4f%%, "
         "p95 %.4f%%, max %.4f%%; outer displacement max %.3g; inner rigid residual max %.3g; %.3f ms/step "
         "median; fold repair in %zu scenes (largest move %.2g D)\n",
-        seed, amplitude, scheme.c_str(), outcomes.size(), failed, folded, folds,
+        seed, amplitude, scheme.c_str(), outcomes.size(), failed, folded, folds, reversed_scenes, reversed,
         summary["volume_error_percent_median"].get<double>(), summary["volume_error_percent_p95"].get<double>(),
         summary["volume_error_percent_max"].get<double>(), outer, inner, summary["ms_per_step_median"].get<double>(),
         repaired, shift);
