@@ -138,9 +138,8 @@ void write_worst(const std::filesystem::path& dir, int rank, const Outcome& o) {
 void write_csv(const std::filesystem::path& path, const std::vector<Outcome>& outcomes) {
     std::ofstream out(path);
     out << "name,vertices,region,motion,inner_motion,bend_degrees,twist_degrees,scale,mirrored,flipped_triangles,"
-           "reversed_triangles,first_fold_time,volume_error_percent,volume_change_percent,outer_max_displacement,inner_"
-           "rigid_residual,"
-           "ms_per_step,fold_repair_steps,fold_repair_max_shift_over_diagonal,passed\n";
+           "reversed_triangles,first_fold_time,volume_error_percent,volume_change_percent,outer_max_displacement,"
+           "inner_rigid_residual,ms_per_step,fold_repair_steps,fold_repair_max_shift_over_diagonal,passed\n";
     for (const Outcome& o : outcomes) {
         const nlohmann::json j = outcome_json(o);
         out << j["name"].get<std::string>() << ',' << j["vertices"] << ',' << j["region"].get<std::string>() << ','
@@ -222,8 +221,7 @@ int run_battery(const Args& args) {
         const Outcome& o = outcomes.back();
         std::printf(
             "%-48s %7zu v  folds %5zu (reversed %5zu)  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step  "
-            "repaired %3zu "
-            "steps (%.1e D)%s%s\n",
+            "repaired %3zu steps (%.1e D)%s%s\n",
             o.battery.name.c_str(), o.battery.mesh.mesh.vertex_count(), o.quality.flipped_triangles,
             o.quality.reversed_triangles, o.quality.volume_change_percent, o.quality.outer_max_displacement,
             o.quality.inner_rigid_residual, o.ms_per_step, o.repairs.steps_repaired, o.repair_shift_over_diagonal,
