@@ -212,7 +212,7 @@ int run_battery(const Args& args) {
         BatteryScene b = generate_battery_scene(static_cast<std::uint64_t>(seed), index, sources, amplitude);
         if (steps > 0) b.scene.options.steps = steps;
         if (scheme == "paper") {  // secs. 5 and 6 as printed, for comparison
-            b.scene.options = gpu_mirrored(b.scene.options);
+            b.scene.options = paper_steps(b.scene.options);
             b.scene.options.tangent_smoothing = true;
             b.scene.region.profile = RegionSpec::Profile::geodesic;
         }

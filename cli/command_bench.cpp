@@ -106,7 +106,7 @@ void time_cpu(const TriangleMesh& mesh, const VertexRings& rings, const Region& 
 double time_gpu(const TriangleMesh& mesh, const VertexRings& rings, const Region& region, const InnerMotion& motion,
                 DeformationOptions options, int steps) {
     options.steps = steps;
-    Deformation d = gpu::make_gpu_deformation(mesh.positions, rings, region, motion, gpu_mirrored(options));
+    Deformation d = gpu::make_gpu_deformation(mesh.positions, rings, region, motion, options);
     d.advance(1.0 / steps);  // warm up: shader compilation, first upload
     const auto start = std::chrono::steady_clock::now();
     const int taken = d.advance(1.0);  // ends with a finish()

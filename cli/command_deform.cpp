@@ -3,9 +3,10 @@
 //
 // Runs the scene's deformation from t = 0 to its target time and writes the
 // deformed mesh in the input's vertex order and layout, and a measured report.
-// --backend gpu runs the passes of sec. 5 in a headless GL context (OSMesa, or EGL
-// in a build with VFSD_HEADLESS_GL=egl); when none can be made it exits 1 saying
-// why (no silent fall-back to the CPU). The report names the context and renderer.
+// --backend gpu runs the same steps as fragment passes (docs/gpu.md) in a headless
+// GL context (OSMesa, or EGL in a build with VFSD_HEADLESS_GL=egl); when none can
+// be made it exits 1 saying why (no silent fall-back to the CPU). The report names
+// the context and renderer.
 
 #include <chrono>
 #include <cstdio>
@@ -182,18 +183,10 @@ int run_deform(const Args& args) {
         return deform_and_write(args, prepared, deformation, nlohmann::json::object());
     }
     const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();  // GpuUnavailable: exit 1
-    if (!gpu_mirrors(scene.options))
-        std::fprintf(stderr,
-                     "warning: the GPU passes run sec. 5 as printed: no stream gauge fit, no volume keeping, "
-                     "no fold repair (docs/gpu.md); --backend cpu takes them\n");
     Deformation deformation = gpu::make_gpu_deformation(prepared.file.mesh.positions, prepared.rings, prepared.region,
-                                                        prepared.motion, gpu_mirrored(scene.options));
+                                                        prepared.motion, scene.options);
     return deform_and_write(args, prepared, deformation,
-                            {{"gl_context", context->kind()},
-                             {"gl_renderer", context->renderer()},
-                             {"stream_gauge", "paper"},
-                             {"keep_volume", false},
-                             {"fold_repair", false}});
+                            {{"gl_context", context->kind()}, {"gl_renderer", context->renderer()}});
 }
 
 }  // namespace vfsd::cli

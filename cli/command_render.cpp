@@ -4,8 +4,8 @@
 // Renders the scene headless (OSMesa, or EGL in a build with VFSD_HEADLESS_GL=egl)
 // as the apps show it: s from blue (0) to red (1), the region borders, the curve,
 // a white sphere at the current time and a dark one at the scene's target time.
-// --time integrates to t first, on the CPU or on the GPU (whose vertex texture is
-// drawn without read-back) when the GPU takes every step the scene asks for.
+// --time integrates to t first, on the GPU (the default; its vertex texture is
+// drawn without read-back) or on the CPU; the sphere tool always on the CPU.
 
 #include <cmath>
 #include <cstdio>
@@ -52,9 +52,9 @@ int run_render(const Args& args) {
     if (!args.has("png") || args.get("png").empty()) throw UsageError("--png OUT.png is required");
     const std::string out = args.get("png");
     Scene scene = load_scene(scene_path);
-    // The GPU deforms when it takes every step the scene asks for (else the
-    // picture would not show what `vfsd deform` gives), or when told to.
-    const std::string backend = args.get("backend", gpu_mirrors(scene.options) ? "gpu" : "cpu");
+    // The GPU deforms by the same steps as the CPU (docs/gpu.md), as `vfsd deform
+    // --backend gpu` does.
+    const std::string backend = args.get("backend", "gpu");
     if (backend != "cpu" && backend != "gpu") throw UsageError("--backend must be 'cpu' or 'gpu'");
     int width = 800, height = 600;
     if (args.has("size")) parse_size(args.get("size"), width, height);
@@ -94,10 +94,10 @@ int run_render(const Args& args) {
     options.target_time = scene.target_time;
     options.wireframe = args.has("wireframe");
 
-    Deformation deformation = backend == "gpu" && !prepared.region.sphere_tool
-                                  ? gpu::make_gpu_deformation(start, prepared.rings, prepared.region, prepared.motion,
-                                                              gpu_mirrored(scene.options))
-                                  : prepared.start_deformation();
+    Deformation deformation =
+        backend == "gpu" && !prepared.region.sphere_tool
+            ? gpu::make_gpu_deformation(start, prepared.rings, prepared.region, prepared.motion, scene.options)
+            : prepared.start_deformation();
     deformation.advance(time);
     // The GPU's vertex texture is drawn as it is; the CPU's positions are uploaded.
     const std::optional<DeviceVertices> on_gpu = deformation.device_vertices();

@@ -1,5 +1,7 @@
 // Normal pass (sec. 5): the normalised sum of the (area-weighted) normals of the
 // triangles around each vertex, as estimate_normals in engine/deform/passes.cpp.
+// w is that sum's length, so normal · w is the ring's area vector (6 ∂V/∂x), the
+// volume keeper's direction (volume.frag, keep_volume.frag).
 uniform sampler2D u_positions;  // xyz = position, w = s
 out vec4 o_normal;
 
@@ -18,5 +20,5 @@ void main() {
         sum += cross(a, b);  // twice the triangle's area times its normal
     }
     float len = length(sum);
-    o_normal = vec4(len > 0.0 ? sum / len : vec3(0.0), 0.0);
+    o_normal = vec4(len > 0.0 ? sum / len : vec3(0.0), len);
 }

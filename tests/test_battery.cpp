@@ -151,7 +151,7 @@ TEST_CASE("battery at full amplitude: no folds, outer in place, inner rigid, vol
         flow_folds += alone.quality.flipped_triangles, flow_folded += alone.quality.flipped_triangles > 0;
         BatteryScene printed_scene = b;  // secs. 5 and 6 as printed, for comparison
         printed_scene.scene.region.profile = RegionSpec::Profile::geodesic;
-        DeformationOptions paper = gpu_mirrored(b.scene.options);
+        DeformationOptions paper = paper_steps(b.scene.options);
         paper.tangent_smoothing = true;
         const Run printed = deform(printed_scene, paper);
         paper_folds += printed.quality.flipped_triangles, paper_folded += printed.quality.flipped_triangles > 0;

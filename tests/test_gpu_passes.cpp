@@ -7,7 +7,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include "deform/fold_repair.h"
 #include "deform/passes.h"
+#include "deform/quality.h"
+#include "deform/volume_keeper.h"
+#include "field/stream_gauge.h"
 #include "gpu/gl_objects.h"
 #include "gpu/gpu_passes.h"
 #include "mesh/builtin_meshes.h"
@@ -187,6 +191,105 @@ TEST_CASE("GPU deformation pass equals one RK4 deformation_step", "[gpu]") {
             report("rk4 step", in.name, error, in.size);
             CHECK(error < 1e-6 * in.size);
         }
+    }
+}
+
+// Beyond the paper: the passes of the default scheme (gpu_passes.h).
+
+TEST_CASE("GPU gauge samples are their vertices' positions and gradients, and the gauge moves as on the CPU", "[gpu]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    const InnerMotion motion = test_motion();
+    for (const PassInput& in : pass_inputs()) {
+        gpu::GpuPasses gpu(in.positions, in.s, in.rings);
+        std::vector<Vec3> normals;
+        estimate_normals(in.positions, in.rings, normals);
+        const std::vector<Vec3> gradients = some_gradients(in, normals);
+        gpu.set_gradients(gradients);
+        const std::vector<std::uint32_t> samples = gauge_samples(in.s, blend_vertices(in.s));
+        REQUIRE(samples.size() > 19);
+        gpu.set_gauge_samples(samples);
+        std::vector<Vec3> at, sampled_gradients;
+        gpu.read_gauge_samples(gpu::At::positions, at, sampled_gradients);
+        REQUIRE(at.size() == samples.size());
+        std::vector<GaugeSample> fit_samples;
+        for (std::size_t j = 0; j < samples.size(); ++j) {
+            // Inputs are float32-exact: only the origin's subtraction rounds.
+            CHECK(glm::length(at[j] - in.positions[samples[j]]) < 4 * kFloatEps * in.size);
+            CHECK(glm::length(sampled_gradients[j] - gradients[samples[j]]) <=
+                  kFloatEps * glm::length(gradients[samples[j]]));
+            fit_samples.push_back(gauge_sample(in.positions[samples[j]], in.s[samples[j]], gradients[samples[j]]));
+        }
+        // An RK4 step with the fitted gauge in all three motion samples (field.glsl's gauge_gradient).
+        const GaugeFit fit(fit_samples);
+        StepMotion step = StepMotion::sample(motion, 0.4, 1.0 / 250.0);
+        for (MotionSample* m : {&step.start, &step.middle, &step.end}) m->gauge = fit.gauge_for(*m);
+        REQUIRE(step.middle.gauge.q[0][1] != 0.0);
+        std::vector<Vec3> cpu = in.positions, paper = in.positions;
+        deformation_step(step, in.s, RegionParts::of(in.s, in.rings), gradients, cpu, cpu);
+        StepMotion without = step;
+        for (MotionSample* m : {&without.start, &without.middle, &without.end}) m->gauge = StreamGauge{};
+        deformation_step(without, in.s, RegionParts::of(in.s, in.rings), gradients, paper, paper);
+        gpu.deformation_step(step);
+        const double error = test::max_distance(gpu.read_positions(), cpu);
+        report("gauge step", in.name, error, in.size);
+        CHECK(error < 1e-6 * in.size);
+        CHECK(test::max_distance(cpu, paper) > 100 * error);  // the gauge moved the step, and the GPU with it
+    }
+}
+
+TEST_CASE("GPU volume keeper pass equals VolumeKeeper::restore", "[gpu]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    for (const PassInput& in : pass_inputs()) {
+        const std::vector<std::uint32_t> blend = blend_vertices(in.s);
+        const VolumeKeeper keeper(in.positions, in.s, in.rings, blend);
+        if (!keeper.active()) continue;  // an open surface: no volume to keep
+        gpu::GpuPasses gpu(in.positions, in.s, in.rings);
+        gpu.measure_rest_volume(bounding_box(in.positions).centre());
+        // The blend region swollen along its normals: the volume drifts by about 1 %.
+        std::vector<Vec3> normals, areas, moved = in.positions;
+        estimate_normals(in.positions, in.rings, normals);
+        for (const std::uint32_t v : blend) moved[v] += 0.01 * in.size * in.s[v] * (1.0 - in.s[v]) * normals[v];
+        for (Vec3& p : moved) p = Vec3(as_float(p.x), as_float(p.y), as_float(p.z));
+        gpu.set_positions(moved);
+        gpu.estimate_normals(gpu::At::positions);
+        gpu.keep_volume();
+        std::vector<Vec3> cpu = moved;
+        estimate_normals(cpu, in.rings, blend, normals, areas);
+        const double drift = keeper.restore(cpu, areas);
+        REQUIRE(std::abs(drift) > 1e-3 * std::abs(keeper.rest_volume()));
+        const std::vector<Vec3> result = gpu.read_positions();
+        const double error = test::max_distance(result, cpu);
+        report("keep volume", in.name, error, in.size);
+        CHECK(error < 1e-6 * in.size);
+        // The GPU's step undoes the drift as the CPU's does, to first order.
+        CHECK(std::abs(keeper.volume(result) - keeper.rest_volume()) < 0.01 * std::abs(drift));
+    }
+}
+
+TEST_CASE("GPU fold pass counts the folds FoldRepair finds", "[gpu]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    for (const PassInput& in : pass_inputs()) {
+        const FoldRepair repair(in.positions, in.s, in.rings);
+        REQUIRE(repair.active());
+        std::vector<std::uint32_t> identity(in.positions.size());
+        for (std::uint32_t v = 0; v < identity.size(); ++v) identity[v] = v;
+        gpu::GpuPasses gpu(in.positions, in.s, in.rings);
+        gpu.set_fold_checks(repair.checks(), identity);
+        CHECK(gpu.count_folds() == 0);  // at rest nothing is folded
+        // Blend vertices slid past a neighbour, along the surface: their fans turn over.
+        std::vector<Vec3> moved = in.positions;
+        std::size_t pushed = 0;
+        for (const Triangle& t : in.mesh.triangles) {
+            const std::uint32_t v = t[0], w = t[1];
+            if (!(in.s[v] > 0.0 && in.s[v] < 1.0) || pushed++ % 7 != 0 || pushed > 40) continue;
+            moved[v] = in.positions[w] + 0.5 * (in.positions[w] - in.positions[v]);
+        }
+        const std::vector<std::uint32_t> flipped = flipped_triangle_list(in.positions, moved, in.mesh.triangles);
+        REQUIRE(!flipped.empty());
+        gpu.set_positions(moved);
+        const std::size_t counted = gpu.count_folds();
+        std::printf("gpu-vs-cpu fold count   %-45s cpu %zu gpu %zu\n", in.name.c_str(), flipped.size(), counted);
+        CHECK(counted == flipped.size());
     }
 }
 

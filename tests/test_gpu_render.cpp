@@ -47,7 +47,7 @@ TEST_CASE("Rendered scene shows s = 0 in blue and s = 1 in red", "[gpu][render]"
     VFSD_REQUIRE_GPU_CONTEXT();
     Scene scene = load_scene(kScene);
     scene.options.steps = 20;
-    scene.options = gpu_mirrored(scene.options);
+    scene.options = paper_steps(scene.options);
     const PreparedScene prepared = prepare_scene(scene);
     const auto& start = prepared.file.mesh.positions;
     const Camera camera = Camera::framing(deformation_frame_points(start, prepared.region.s, prepared.motion), 160.0 / 120);
@@ -118,7 +118,9 @@ TEST_CASE("vfsd render and vfsd deform --backend gpu run headless", "[gpu][rende
     CHECK(!json["gl_renderer"].get<std::string>().empty());
     CHECK(json["gl_context"] == vfsd::test::gpu_context()->kind());
     CHECK(json["steps"] == 20);
-    CHECK(json["stream_gauge"] == "paper");  // what the GPU ran, said
+    // The GPU takes the default scheme's steps: its volume keeper holds the volume
+    // (sec. 5's steps alone lose about 3 % on this scene).
+    CHECK(json["volume_error_percent"].get<double>() < 0.01);
     std::filesystem::remove_all(dir);
 }
 

@@ -13,37 +13,6 @@
 
 namespace vfsd {
 
-namespace {
-
-// Which blend vertices the gauge is fitted to: all of a blend region of at most
-// kGaugeSamples vertices, else the vertices at kGaugeSamples even steps through
-// the blend region ordered by s, each with every vertex of equal s (to 1e-9: a
-// symmetric mesh's mirror images, whatever the rounding of s): a set that
-// depends neither on the order of the input's vertices nor on where the mesh is
-// placed. (The final shape differs between sample sets by up to a few percent of
-// the diagonal, so the set must be canonical.) Where s takes so few values that
-// this would be more than four times kGaugeSamples vertices (a mesh symmetric
-// about the curve, such as a finely meshed cylinder), the steps' vertices alone
-// are taken, and mirror images are told apart by the vertex order.
-std::vector<std::uint32_t> gauge_samples(const std::vector<double>& s, const std::vector<std::uint32_t>& blend) {
-    constexpr std::size_t kGaugeSamples = 512;
-    if (blend.size() <= kGaugeSamples) return blend;
-    std::vector<std::pair<long long, std::uint32_t>> keyed;
-    for (const std::uint32_t v : blend) keyed.push_back({std::llround(s[v] * 1e9), v});
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<long long> chosen;  // the keys at kGaugeSamples even steps through the order
-    for (std::size_t k = 0; k < kGaugeSamples; ++k) chosen.push_back(keyed[k * keyed.size() / kGaugeSamples].first);
-    std::vector<std::uint32_t> samples;
-    for (const auto& [key, v] : keyed)
-        if (std::binary_search(chosen.begin(), chosen.end(), key)) samples.push_back(v);
-    if (samples.size() <= 4 * kGaugeSamples) return samples;
-    samples.clear();
-    for (std::size_t k = 0; k < kGaugeSamples; ++k) samples.push_back(keyed[k * keyed.size() / kGaugeSamples].second);
-    return samples;
-}
-
-}  // namespace
-
 CpuSteps::CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
                    DeformationOptions options)
     : positions_(std::move(positions)),
@@ -152,10 +121,7 @@ void CpuSteps::estimate_at_start() {
 // The stream gauge's fit to the blend region at `at` with the current ∇r.
 GaugeFit CpuSteps::fit_stream_gauge(const std::vector<Vec3>& at) const {
     std::vector<GaugeSample> samples;
-    for (const std::uint32_t v : gauge_samples_) {
-        const double weight = (1.0 - bernstein_blend(s_[v])) * bernstein_blend_derivative(s_[v]);
-        samples.push_back({at[v], weight * gradients_[v]});
-    }
+    for (const std::uint32_t v : gauge_samples_) samples.push_back(gauge_sample(at[v], s_[v], gradients_[v]));
     return GaugeFit(std::move(samples));
 }
 

@@ -14,15 +14,7 @@ void check_options(const DeformationOptions& options) {
     if (options.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
 }
 
-const char* const kGpuUnmirroredReason =
-    "the GPU passes do not fit the stream's gauge, keep the volume or repair folds yet (docs/gpu.md); the CPU runs "
-    "them, or set \"stream_gauge\": \"paper\", \"keep_volume\": false and \"fold_repair\": false";
-
-bool gpu_mirrors(const DeformationOptions& options) {
-    return !options.fit_stream_gauge && !options.keep_volume && !options.repair_folds;
-}
-
-DeformationOptions gpu_mirrored(DeformationOptions options) {
+DeformationOptions paper_steps(DeformationOptions options) {
     options.fit_stream_gauge = options.keep_volume = options.repair_folds = false;
     return options;
 }

@@ -44,14 +44,10 @@ struct DeformationOptions {
 // Throws InputError when an option is out of range.
 void check_options(const DeformationOptions& options);
 
-// Whether the GPU passes (engine/gpu) take every step these options ask for: they
-// mirror sec. 5 with either smoothing, not the stream gauge fit, the volume keeper
-// or the fold repair.
-bool gpu_mirrors(const DeformationOptions& options);
-// Why the GPU does not take options it does not mirror (for messages).
-extern const char* const kGpuUnmirroredReason;
-// The options with the steps only the CPU takes turned off.
-DeformationOptions gpu_mirrored(DeformationOptions options);
+// The options with the steps beyond sec. 5 turned off (the stream gauge fit, the
+// volume keeper and the fold repair): with tangent smoothing and the geodesic
+// profile, the scheme as printed.
+DeformationOptions paper_steps(DeformationOptions options);
 
 // Which part of the shape moves: s per vertex (0 full, 1 none), or the sphere tool.
 struct Region {

@@ -34,6 +34,19 @@
 
 namespace vfsd {
 
+// The fold test's data, as FoldRepair built it: the triangles with a blend corner
+// (check) and their edge neighbours, indices into `triangles`. Entry i is folded
+// when its triangle's unit normal faces against the sum of its neighbours' (those
+// of neighbours[neighbour_offsets[i] .. neighbour_offsets[i + 1]]) and it did not
+// at rest (against_at_rest[i]). The GPU's fold pass takes it (gpu/gpu_passes.h).
+struct FoldChecks {
+    const std::vector<Triangle>& triangles;
+    const std::vector<std::uint32_t>& check;
+    const std::vector<std::uint32_t>& neighbour_offsets;
+    const std::vector<std::uint32_t>& neighbours;
+    const std::vector<std::uint8_t>& against_at_rest;
+};
+
 struct FoldRepairStats {
     std::size_t steps_repaired = 0;  // steps after which some triangle was folded
     std::size_t vertex_moves = 0;    // Σ over rounds of the vertices placed again
@@ -52,6 +65,7 @@ public:
     // last round (0 almost always).
     std::size_t repair(std::vector<Vec3>& positions, const VertexRings& rings);
     const FoldRepairStats& stats() const { return stats_; }
+    FoldChecks checks() const { return {triangles_, check_, neighbour_offsets_, neighbours_, against_at_rest_}; }
     std::size_t bytes() const;
 
 private:

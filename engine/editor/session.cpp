@@ -128,12 +128,9 @@ EditorSession::EditorSession(DeformationFactory gpu, std::string gpu_reason)
 
 // The backend the next deformation will use, and why not the GPU, until one runs.
 void EditorSession::predict_backend() {
-    const bool gpu = gpu_ && !force_cpu_ && gpu_mirrors(doc_.scene.options);
+    const bool gpu = gpu_ && !force_cpu_;
     stats_.backend = gpu ? "gpu" : "cpu";
-    stats_.backend_reason = gpu               ? ""
-                            : !gpu_           ? gpu_reason_
-                            : force_cpu_      ? "CPU chosen"
-                                              : kGpuUnmirroredReason;
+    stats_.backend_reason = gpu ? "" : !gpu_ ? gpu_reason_ : "CPU chosen";
 }
 
 // ---- loading and saving --------------------------------------------------

@@ -191,4 +191,25 @@ StreamGauge GaugeFit::gauge_for(const MotionSample& motion) const {
     return expand(centre_, inverse_scale_, c);
 }
 
+std::vector<std::uint32_t> gauge_samples(const std::vector<double>& s, const std::vector<std::uint32_t>& blend) {
+    constexpr std::size_t kGaugeSamples = 512;
+    if (blend.size() <= kGaugeSamples) return blend;
+    std::vector<std::pair<long long, std::uint32_t>> keyed;
+    for (const std::uint32_t v : blend) keyed.push_back({std::llround(s[v] * 1e9), v});
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<long long> chosen;  // the keys at kGaugeSamples even steps through the order
+    for (std::size_t k = 0; k < kGaugeSamples; ++k) chosen.push_back(keyed[k * keyed.size() / kGaugeSamples].first);
+    std::vector<std::uint32_t> samples;
+    for (const auto& [key, v] : keyed)
+        if (std::binary_search(chosen.begin(), chosen.end(), key)) samples.push_back(v);
+    if (samples.size() <= 4 * kGaugeSamples) return samples;
+    samples.clear();
+    for (std::size_t k = 0; k < kGaugeSamples; ++k) samples.push_back(keyed[k * keyed.size() / kGaugeSamples].second);
+    return samples;
+}
+
+GaugeSample gauge_sample(const Vec3& position, double s, const Vec3& gradient) {
+    return {position, (1.0 - bernstein_blend(s)) * bernstein_blend_derivative(s) * gradient};
+}
+
 }  // namespace vfsd

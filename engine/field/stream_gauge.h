@@ -21,6 +21,7 @@
 // motion (1 − b)² u (monotone: no overshoot, no backward turn); the second keeps
 // the stream itself small where ∇r's errors would be multiplied by it.
 
+#include <cstdint>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -54,6 +55,23 @@ struct GaugeSample {
     Vec3 position{0.0};
     Vec3 weight{0.0};
 };
+
+// The sample of a blend vertex at `position` with region value s and ∇r there:
+// its weight is (1 − b(s)) b′(s) ∇r.
+GaugeSample gauge_sample(const Vec3& position, double s, const Vec3& gradient);
+
+// Which blend vertices the gauge is fitted to (`s` and `blend` in one vertex
+// order, blend_vertices(s) of deform/passes.h): all of a blend region of at most
+// kGaugeSamples vertices, else the vertices at kGaugeSamples even steps through
+// the blend region ordered by s, each with every vertex of equal s (to 1e-9: a
+// symmetric mesh's mirror images, whatever the rounding of s): a set that
+// depends neither on the order of the input's vertices nor on where the mesh is
+// placed. (The final shape differs between sample sets by up to a few percent of
+// the diagonal, so the set must be canonical.) Where s takes so few values that
+// this would be more than four times kGaugeSamples vertices (a mesh symmetric
+// about the curve, such as a finely meshed cylinder), the steps' vertices alone
+// are taken, and mirror images are told apart by the vertex order.
+std::vector<std::uint32_t> gauge_samples(const std::vector<double>& s, const std::vector<std::uint32_t>& blend);
 
 // The least-squares fit above over a set of samples: the normal matrix depends
 // on the samples alone, so it is built and factored once and serves the three

@@ -96,7 +96,9 @@ void Texture::upload(const float* rgba) {
 void Texture::upload(const std::int32_t* data) {
     glBindTexture(GL_TEXTURE_2D, id());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    const GLenum layout = format_ == GL_RG32I ? GL_RG_INTEGER : GL_RED_INTEGER;
+    const GLenum layout = format_ == GL_RGBA32I ? GL_RGBA_INTEGER
+                          : format_ == GL_RG32I ? GL_RG_INTEGER
+                                                : GL_RED_INTEGER;
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, layout, GL_INT, data);
     check_gl("uploading an integer texture");
 }
@@ -192,6 +194,7 @@ Program::Program(std::string name, const std::vector<std::string>& vertex_files,
 void Program::use() const { glUseProgram(name_.id()); }
 GLint Program::location(const char* uniform) const { return glGetUniformLocation(name_.id(), uniform); }
 void Program::set(const char* uniform, int value) const { glUniform1i(location(uniform), value); }
+void Program::set(const char* uniform, int x, int y) const { glUniform2i(location(uniform), x, y); }
 void Program::set(const char* uniform, float value) const { glUniform1f(location(uniform), value); }
 void Program::set(const char* uniform, float x, float y, float z) const { glUniform3f(location(uniform), x, y, z); }
 void Program::set(const char* uniform, float x, float y, float z, float w) const {

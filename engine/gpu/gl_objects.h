@@ -58,7 +58,7 @@ class Texture {
 public:
     Texture() = default;
     Texture(GLenum internal_format, int width, int height);
-    // Uploads a full image of 4 (RGBA32F), 2 (RG32I) or 1 (R32I) components per texel.
+    // Uploads a full image of 4 (RGBA32F, RGBA32I), 2 (RG32I) or 1 (R32I) components per texel.
     void upload(const float* rgba);
     void upload(const std::int32_t* data);
     GLuint id() const { return name_.id(); }
@@ -112,6 +112,7 @@ public:
     const std::string& name() const { return program_name_; }
     // Uniform setters for the program in use (unknown names are ignored, as GL does).
     void set(const char* uniform, int value) const;
+    void set(const char* uniform, int x, int y) const;
     void set(const char* uniform, float value) const;
     void set(const char* uniform, float x, float y, float z) const;
     void set(const char* uniform, float x, float y, float z, float w) const;

@@ -4,10 +4,13 @@
 #include <string>
 
 #include "base/error.h"
+#include "deform/volume_keeper.h"
+#include "field/stream_gauge.h"
 #include "gpu/gl.h"
 #include "gpu/gpu_error.h"
 #include "gpu/gpu_passes.h"
 #include "mesh/geometry.h"
+#include "mesh/vertex_order.h"
 
 namespace vfsd::gpu {
 namespace {
@@ -41,7 +44,10 @@ const std::vector<Vec3>& checked_size(const std::vector<Vec3>& positions) {
     return positions;
 }
 
-// The step of CpuSteps::step, pass for pass, without read-back.
+// The step of CpuSteps::step, pass for pass. With the paper's steps alone it
+// reads nothing back; the stream gauge's fit reads its samples back (two texels
+// each) once per step and fits on the CPU, and the fold test reads one texel per
+// step, the positions only after a step that folded, for the CPU's repair.
 class GpuSteps final : public StepBackend {
 public:
     GpuSteps(const std::vector<Vec3>& positions, const VertexRings& rings, const Region& region, InnerMotion motion,
@@ -49,7 +55,7 @@ public:
         : motion_(std::move(motion)),
           options_(options),
           passes_(checked_size(positions), checked_s(region, positions.size()), rings) {
-        if (!gpu_mirrors(options_)) throw GpuUnavailable(kGpuUnmirroredReason);
+        set_up_default_scheme(positions, region.s, rings);
     }
 
     const char* name() const override { return "gpu"; }
@@ -58,17 +64,22 @@ public:
     std::optional<DeviceVertices> device_vertices() const override {
         return DeviceVertices{&passes_.vertex_texture(), passes_.vertex_origin()};
     }
+    FoldRepairStats fold_repairs() const override { return fold_repair_.stats(); }
 
     void step(double time, double h, int) override {
-        const StepMotion motion = StepMotion::sample(motion_, time, h);
+        StepMotion motion = StepMotion::sample(motion_, time, h);
+        if (!options_.gradients_at_midpoint || !have_gradients_) estimate_surface_gradients(At::positions);
+        if (options_.fit_stream_gauge) motion.start.gauge = gauge_fit_->gauge_for(motion.start);
         if (options_.gradients_at_midpoint) {
-            if (!have_gradients_) estimate_surface_gradients(At::positions);
             passes_.predict_midpoints(motion.start, h);
             estimate_surface_gradients(At::midpoints);
-        } else {
-            estimate_surface_gradients(At::positions);
         }
+        if (options_.fit_stream_gauge)
+            for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
         passes_.deformation_step(motion);
+        positions_valid_ = false;
+        repair_folds();
+        if (keep_volume_) passes_.keep_volume();
         positions_valid_ = false;
     }
 
@@ -79,12 +90,55 @@ public:
     }
 
 private:
-    // Normal, gradient (eq. 6) and smoothing passes on the positions or midpoints.
+    // What the CPU's default scheme adds to sec. 5, in the CPU's work order
+    // (mesh/vertex_order.h) where the order matters: the gauge's samples and the
+    // fold repair's rounds.
+    void set_up_default_scheme(const std::vector<Vec3>& positions, const std::vector<double>& s,
+                               const VertexRings& rings) {
+        if (!options_.fit_stream_gauge && !options_.keep_volume && !options_.repair_folds) return;
+        order_ = breadth_first_order(rings);
+        s_ = gather_in_order(s, order_);
+        if (options_.fit_stream_gauge) {
+            std::vector<std::uint32_t> samples = gauge_samples(s_, blend_vertices(s_));
+            for (std::uint32_t& v : samples) v = order_[v];
+            passes_.set_gauge_samples(samples);
+            for (const std::uint32_t v : samples) sample_s_.push_back(s[v]);
+        }
+        if (options_.repair_folds) {
+            rings_ = reorder_rings(rings, order_);
+            fold_repair_ = FoldRepair(gather_in_order(positions, order_), s_, rings_);
+            passes_.set_fold_checks(fold_repair_.checks(), order_);
+        }
+        keep_volume_ = options_.keep_volume && VolumeKeeper(positions, s, rings, blend_vertices(s)).active();
+        if (keep_volume_) passes_.measure_rest_volume(bounding_box(positions).centre());
+    }
+
+    // Normal, gradient (eq. 6) and smoothing passes on the positions or midpoints,
+    // and the gauge's fit there (CpuSteps::fit_stream_gauge).
     void estimate_surface_gradients(At at) {
         passes_.estimate_normals(at);
         passes_.estimate_gradients(at);
         passes_.smooth_gradients(options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing);
         have_gradients_ = true;
+        if (!options_.fit_stream_gauge) return;
+        passes_.read_gauge_samples(at, sample_positions_, sample_gradients_);
+        std::vector<GaugeSample> samples;
+        for (std::size_t j = 0; j < sample_positions_.size(); ++j)
+            samples.push_back(gauge_sample(sample_positions_[j], sample_s_[j], sample_gradients_[j]));
+        gauge_fit_ = GaugeFit(std::move(samples));
+    }
+
+    // FoldRepair::repair on the CPU after a step the fold pass found folds in; the
+    // repaired positions go back up, with their rings' area vectors for the keeper.
+    void repair_folds() {
+        if (!fold_repair_.active() || passes_.count_folds() == 0) return;
+        std::vector<Vec3> work = gather_in_order(positions(), order_);
+        const std::size_t repaired = fold_repair_.stats().steps_repaired;
+        fold_repair_.repair(work, rings_);
+        if (fold_repair_.stats().steps_repaired == repaired) return;
+        for (std::size_t i = 0; i < order_.size(); ++i) positions_[order_[i]] = work[i];
+        passes_.set_positions(positions_);
+        passes_.estimate_normals(At::positions);
     }
 
     InnerMotion motion_;
@@ -93,6 +147,14 @@ private:
     bool have_gradients_ = false;
     mutable std::vector<Vec3> positions_;
     mutable bool positions_valid_ = false;
+    // The default scheme's state; order_, s_ and rings_ in the CPU's work order.
+    std::vector<std::uint32_t> order_;
+    std::vector<double> s_, sample_s_;
+    VertexRings rings_;
+    std::vector<Vec3> sample_positions_, sample_gradients_;
+    std::optional<GaugeFit> gauge_fit_;
+    FoldRepair fold_repair_;
+    bool keep_volume_ = false;
 };
 
 }  // namespace

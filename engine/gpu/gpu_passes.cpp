@@ -14,6 +14,7 @@ namespace {
 
 // Texture units of the pass inputs.
 constexpr int kUnitRings = 0, kUnitNeighbours = 1, kUnitPositions = 2, kUnitNormals = 3, kUnitGradients = 4;
+constexpr int kUnitExtra[3] = {5, 6, 7};  // a pass's own inputs beyond these
 
 // s as float32, keeping its region: a value strictly inside (0, 1) in double stays
 // strictly inside in float, so the GPU's 0 < s < 1 tests pick the same vertices.
@@ -42,6 +43,11 @@ void set_motion(const Program& p, const std::string& name, const MotionSample& m
     set3("twist", m.twist);
     set3("stream_origin", m.stream_origin - origin);
     set3("twist_origin", m.twist_origin - origin);
+    set3("gauge_centre", m.gauge.centre - origin);
+    p.set((name + ".gauge_inverse_scale").c_str(), float(m.gauge.inverse_scale));
+    for (int k = 0; k < 10; ++k)
+        p.set((name + ".gauge[" + std::to_string(k) + "]").c_str(), float(m.gauge.q[0][k]), float(m.gauge.q[1][k]),
+              float(m.gauge.q[2][k]));
 }
 
 }  // namespace
@@ -53,6 +59,7 @@ GpuPasses::GpuPasses(const std::vector<Vec3>& positions, const std::vector<doubl
                          " values of s and rings for " + std::to_string(rings.vertex_count()) + " vertices");
     const Capabilities caps = query_capabilities();
     require_gpu_support(caps, std::max(count_, rings.neighbours.size()));
+    max_texture_size_ = caps.max_texture_size;
     layout_ = TextureLayout::for_count(count_, caps.max_texture_size);
     origin_ = bounding_box(positions).centre();
 
@@ -87,9 +94,11 @@ GpuPasses::GpuPasses(const std::vector<Vec3>& positions, const std::vector<doubl
     check_gl("setting up the GPU passes");
 }
 
-GpuPasses::Target GpuPasses::make_target() const {
+GpuPasses::Target GpuPasses::make_target() const { return make_target(layout_.width, layout_.height); }
+
+GpuPasses::Target GpuPasses::make_target(int width, int height) const {
     Target t;
-    t.texture = Texture(GL_RGBA32F, layout_.width, layout_.height);
+    t.texture = Texture(GL_RGBA32F, width, height);
     t.framebuffer = Framebuffer(t.texture);
     return t;
 }
@@ -167,6 +176,152 @@ void GpuPasses::deformation_step(const StepMotion& motion) {
     gradient_[current_gradient_].texture.bind(kUnitGradients);
     draw(vertex_[1 - current_]);
     current_ = 1 - current_;
+}
+
+// ---- Beyond the paper: the default scheme's passes ----
+
+namespace {
+
+// An integer texture of `count` items of `components` (1 or 4) in `layout`.
+Texture integer_texture(const std::vector<std::int32_t>& items, int components, std::size_t count,
+                        int max_texture_size) {
+    const TextureLayout layout = TextureLayout::for_count(count, max_texture_size);
+    std::vector<std::int32_t> data(layout.texels() * components, 0);
+    std::copy(items.begin(), items.end(), data.begin());
+    Texture t(components == 4 ? GL_RGBA32I : GL_R32I, layout.width, layout.height);
+    t.upload(data.data());
+    return t;
+}
+
+}  // namespace
+
+// The targets of the sum passes that add a width x height texture up into one
+// texel: each level kBlock (sum.frag) times smaller, the last 1 x 1.
+std::vector<GpuPasses::Target> GpuPasses::sum_levels(int width, int height) const {
+    constexpr int kBlock = 8;
+    std::vector<Target> levels;
+    do {
+        width = (width + kBlock - 1) / kBlock, height = (height + kBlock - 1) / kBlock;
+        levels.push_back(make_target(width, height));
+    } while (width > 1 || height > 1);
+    return levels;
+}
+
+void GpuPasses::sum(const Texture& source, const std::vector<Target>& levels) const {
+    sum_program_.use();
+    sum_program_.set("u_source", kUnitExtra[0]);
+    const Texture* from = &source;
+    for (const Target& level : levels) {
+        from->bind(kUnitExtra[0]);
+        sum_program_.set("u_source_size", from->width(), from->height());
+        draw(level);
+        from = &level.texture;
+    }
+}
+
+void GpuPasses::set_gauge_samples(const std::vector<std::uint32_t>& vertices) {
+    gauge_sample_count_ = vertices.size();
+    if (vertices.empty()) return;
+    gauge_sample_vertices_ = integer_texture(std::vector<std::int32_t>(vertices.begin(), vertices.end()), 1,
+                                             vertices.size(), max_texture_size_);
+    const TextureLayout layout = TextureLayout::for_count(2 * vertices.size(), max_texture_size_);
+    gauge_samples_ = make_target(layout.width, layout.height);
+    if (!gauge_samples_program_.id())
+        gauge_samples_program_ = fullscreen_program("gauge samples", "gauge_samples.frag", false);
+    check_gl("setting up the gauge samples");
+}
+
+void GpuPasses::read_gauge_samples(At at, std::vector<Vec3>& positions, std::vector<Vec3>& gradients) const {
+    positions.clear(), gradients.clear();
+    if (gauge_sample_count_ == 0) return;
+    bind_mesh(gauge_samples_program_);
+    gauge_samples_program_.set("u_count", static_cast<int>(2 * gauge_sample_count_));
+    gauge_samples_program_.set("u_samples", kUnitExtra[0]);
+    gauge_sample_vertices_.bind(kUnitExtra[0]);
+    source(at).bind(kUnitPositions);
+    gradient_[current_gradient_].texture.bind(kUnitGradients);
+    draw(gauge_samples_);
+    const std::vector<float> data = gauge_samples_.framebuffer.read_rgba32f();
+    for (std::size_t j = 0; j < gauge_sample_count_; ++j) {
+        const float* p = &data[8 * j];
+        positions.push_back(origin_ + Vec3(p[0], p[1], p[2]));
+        gradients.push_back(Vec3(p[4], p[5], p[6]));
+    }
+}
+
+void GpuPasses::measure_rest_volume(const Vec3& centre) {
+    volume_centre_ = centre - origin_;
+    volume_terms_ = make_target();
+    volume_sums_ = sum_levels(layout_.width, layout_.height);
+    rest_volume_sums_ = sum_levels(layout_.width, layout_.height);
+    if (!sum_program_.id()) sum_program_ = fullscreen_program("sum pass", "sum.frag", false);
+    volume_program_ = fullscreen_program("volume pass", "volume.frag", true);
+    keep_volume_program_ = fullscreen_program("volume keeper pass", "keep_volume.frag", true);
+    sum_volume(rest_volume_sums_);
+    check_gl("measuring the rest volume");
+}
+
+// The volume pass on the current positions, added up into `levels`.
+void GpuPasses::sum_volume(const std::vector<Target>& levels) const {
+    bind_mesh(volume_program_);
+    volume_program_.set("u_centre", float(volume_centre_.x), float(volume_centre_.y), float(volume_centre_.z));
+    vertex_[current_].texture.bind(kUnitPositions);
+    normal_.texture.bind(kUnitNormals);
+    draw(volume_terms_);
+    sum(volume_terms_.texture, levels);
+}
+
+void GpuPasses::keep_volume() {
+    if (volume_sums_.empty()) return;
+    sum_volume(volume_sums_);
+    bind_mesh(keep_volume_program_);
+    keep_volume_program_.set("u_volume", kUnitExtra[0]);
+    keep_volume_program_.set("u_rest_volume", kUnitExtra[1]);
+    volume_sums_.back().texture.bind(kUnitExtra[0]);
+    rest_volume_sums_.back().texture.bind(kUnitExtra[1]);
+    vertex_[current_].texture.bind(kUnitPositions);
+    normal_.texture.bind(kUnitNormals);
+    draw(vertex_[1 - current_]);
+    current_ = 1 - current_;
+}
+
+void GpuPasses::set_fold_checks(const FoldChecks& checks, const std::vector<std::uint32_t>& to_vertex) {
+    fold_check_count_ = checks.check.size();
+    if (fold_check_count_ == 0) return;
+    std::vector<std::int32_t> triangles, entries, neighbours(checks.neighbours.begin(), checks.neighbours.end());
+    for (const Triangle& t : checks.triangles)
+        for (int c = 0; c < 4; ++c) triangles.push_back(c < 3 ? static_cast<std::int32_t>(to_vertex[t[c]]) : 0);
+    for (std::size_t i = 0; i < fold_check_count_; ++i) {
+        const std::uint32_t first = checks.neighbour_offsets[i], last = checks.neighbour_offsets[i + 1];
+        for (const std::uint32_t value :
+             {checks.check[i], first, last - first, std::uint32_t(checks.against_at_rest[i])})
+            entries.push_back(static_cast<std::int32_t>(value));
+    }
+    fold_triangles_ = integer_texture(triangles, 4, checks.triangles.size(), max_texture_size_);
+    fold_checks_ = integer_texture(entries, 4, fold_check_count_, max_texture_size_);
+    fold_neighbours_ = integer_texture(neighbours, 1, neighbours.size(), max_texture_size_);
+    const TextureLayout layout = TextureLayout::for_count(fold_check_count_, max_texture_size_);
+    fold_flags_ = make_target(layout.width, layout.height);
+    fold_sums_ = sum_levels(layout.width, layout.height);
+    if (!sum_program_.id()) sum_program_ = fullscreen_program("sum pass", "sum.frag", false);
+    fold_program_ = fullscreen_program("fold pass", "fold_check.frag", false);
+    check_gl("setting up the fold test");
+}
+
+std::size_t GpuPasses::count_folds() const {
+    if (fold_check_count_ == 0) return 0;
+    bind_mesh(fold_program_);
+    fold_program_.set("u_count", static_cast<int>(fold_check_count_));
+    fold_program_.set("u_fold_triangles", kUnitExtra[0]);
+    fold_program_.set("u_fold_checks", kUnitExtra[1]);
+    fold_program_.set("u_fold_neighbours", kUnitExtra[2]);
+    fold_triangles_.bind(kUnitExtra[0]);
+    fold_checks_.bind(kUnitExtra[1]);
+    fold_neighbours_.bind(kUnitExtra[2]);
+    vertex_[current_].texture.bind(kUnitPositions);
+    draw(fold_flags_);
+    sum(fold_flags_.texture, fold_sums_);
+    return static_cast<std::size_t>(fold_sums_.back().framebuffer.read_rgba32f()[0] + 0.5f);
 }
 
 std::vector<float> GpuPasses::packed(const std::vector<Vec3>& xyz, bool with_s, const Vec3& origin) const {

@@ -10,6 +10,10 @@
 //   ring texture      RG32I    first ring entry, ring length
 //   neighbour texture R32I     (neighbour << 1) | wedge flag, any valence
 //
+// Beyond sec. 5, the passes of the CPU's default scheme (deform/cpu_steps.h):
+// the gauge samples' gather, the volume keeper's sums and Newton step, and the
+// fold test; sums over the mesh are added up on the GPU (sum.frag) into one texel.
+//
 // Positions are float32 on the GPU (the CPU reference is double); docs/gpu.md
 // gives the measured differences. Only the read_* functions read back, and each
 // read-back is counted (gl_objects.h: readback_count()).
@@ -17,6 +21,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "deform/fold_repair.h"
 #include "deform/passes.h"
 #include "gpu/gl_objects.h"
 #include "gpu/texture_layout.h"
@@ -45,6 +50,23 @@ public:
     // Deformation pass: one RK4 step of the positions; the new positions become current.
     void deformation_step(const StepMotion& motion);
 
+    // Beyond the paper. The stream gauge's samples (field/stream_gauge.h): the
+    // vertices are set once; each read is one read-back of two texels per sample,
+    // its position (or midpoint) and its ∇r, for the fit on the CPU.
+    void set_gauge_samples(const std::vector<std::uint32_t>& vertices);
+    void read_gauge_samples(At at, std::vector<Vec3>& positions, std::vector<Vec3>& gradients) const;
+    // The volume keeper (deform/volume_keeper.h) on a closed mesh: measure_rest_volume
+    // takes the sums of the current positions about `centre` as the rest's, once;
+    // keep_volume then moves the blend vertices by one Newton step on the volume,
+    // along the area vectors of the last normal pass. No read-back.
+    void measure_rest_volume(const Vec3& centre);
+    void keep_volume();
+    // The fold test (FoldRepair::folded): the checks are uploaded once, their
+    // triangles' corners mapped to this mesh's vertices by `to_vertex`; each count
+    // is one read-back of a single texel.
+    void set_fold_checks(const FoldChecks& checks, const std::vector<std::uint32_t>& to_vertex);
+    std::size_t count_folds() const;
+
     // Replace GPU state (tests, restarts); uploads are not read-backs.
     void set_positions(const std::vector<Vec3>& positions);
     void set_gradients(const std::vector<Vec3>& gradients);
@@ -68,6 +90,10 @@ private:
         Framebuffer framebuffer;
     };
     Target make_target() const;
+    Target make_target(int width, int height) const;
+    std::vector<Target> sum_levels(int width, int height) const;
+    void sum(const Texture& source, const std::vector<Target>& levels) const;
+    void sum_volume(const std::vector<Target>& levels) const;
     const Texture& source(At at) const;
     void bind_mesh(const Program& program) const;
     void draw(const Target& target) const;
@@ -75,6 +101,7 @@ private:
     std::vector<Vec3> read(const Target& target, const Vec3& origin) const;
 
     std::size_t count_ = 0;
+    int max_texture_size_ = 1;
     TextureLayout layout_;
     Vec3 origin_{0.0};
     std::vector<float> s_;  // s as uploaded (float32, see upload rules in the .cpp)
@@ -83,6 +110,21 @@ private:
     int current_ = 0, current_gradient_ = 0;
     Program normal_program_, gradient_program_, smooth_program_, predict_program_, deform_program_;
     VertexArray empty_vao_;
+    // Beyond the paper, each made by its set_ or measure_ call.
+    Program sum_program_;
+    std::size_t gauge_sample_count_ = 0;
+    Texture gauge_sample_vertices_;
+    Target gauge_samples_;
+    Program gauge_samples_program_;
+    Vec3 volume_centre_{0.0};  // relative to origin_
+    Target volume_terms_;
+    std::vector<Target> volume_sums_, rest_volume_sums_;
+    Program volume_program_, keep_volume_program_;
+    std::size_t fold_check_count_ = 0;
+    Texture fold_triangles_, fold_checks_, fold_neighbours_;
+    Target fold_flags_;
+    std::vector<Target> fold_sums_;
+    Program fold_program_;
 };
 
 }  // namespace vfsd::gpu

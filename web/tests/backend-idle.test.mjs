@@ -50,14 +50,13 @@ try {
 }
 
 {
-  // ?backend=gpu: the GPU path even on a software renderer (a sec. 5 scene: what the GPU passes run).
+  // ?backend=gpu: the GPU path even on a software renderer, with the default scheme.
   const { page: gpuPage, errors: gpuErrors, close: gpuClose } = await openPage('?backend=gpu');
   try {
     const s = await gpuPage.evaluate(() => window.vfsd.state());
     const c = s.control_points, d = s.diagonal;
     await gpuPage.evaluate((scene) => window.vfsd.loadScene(scene), {
       region: { kind: 'geodesic', seed: c[0], g_min: 0.1 * d, g_max: 0.4 * d }, curve: { bezier: c },
-      stream_gauge: 'paper', keep_volume: false, fold_repair: false,
     });
     const stats = await gpuPage.evaluate(() => window.vfsd.runTo(0.1));
     check(stats.backend === 'gpu', `?backend=gpu runs the GPU path (${stats.backend})`);

@@ -1,6 +1,6 @@
 // ms/step of the page on a larger mesh in headless Chromium, GPU path (WebGL2,
 // SwiftShader here: a software renderer) and CPU path (wasm, one thread), on the
-// options the GPU passes mirror (a run that lands on another backend fails):
+// default scheme (a run that lands on another backend fails):
 //   VFSD_WEB_SITE=build/web/site node web/tests/bench.mjs [builtin:sphere:6 ...]
 // (scripts/build-web first; docs/web.md has the figures.) With VFSD_NATIVE set to
 // a native `vfsd`, the CPU run's scene is also deformed natively on one thread
@@ -28,13 +28,9 @@ for (const mesh of meshes) {
       await page.evaluate((m) => window.vfsd.open(m), mesh);
       const s = await page.evaluate(() => window.vfsd.state());
       const c = s.control_points;
-      // The GPU passes mirror sec. 5 without the gauge fit and the volume keeper
-      // (docs/gpu.md): with those on, ?backend=gpu would run on the CPU. Both rows
-      // run the options the GPU mirrors, so that they compare the same work.
       await page.evaluate((scene) => window.vfsd.loadScene(scene), {
         region: { kind: 'geodesic', seed: c[0], g_min: 0.1 * s.diagonal, g_max: 0.45 * s.diagonal },
         curve: { bezier: c }, steps: 250, smoothing_steps: 10, target_time: 0,  // at rest until runTo
-        stream_gauge: 'paper', keep_volume: false, fold_repair: false,
       });
       const t0 = Date.now();
       const stats = await page.evaluate(() => window.vfsd.runTo(1));

@@ -32,7 +32,6 @@ import { openPage, check } from './harness.mjs';
     await api((scene) => window.vfsd.loadScene(scene), {
       region: { kind: 'geodesic', seed: c[0], g_min: 0.1 * d, g_max: 0.4 * d },
       curve: { bezier: [c[0], c[1], c[2], c[3].map((x, k) => x + (k === 1 ? 0.1 * d : 0))] },
-      stream_gauge: 'paper', keep_volume: false, fold_repair: false,  // sec. 5 as printed: what the GPU passes run (WebGL2, SwiftShader here)
     });
     const same = await api(() => window.vfsd.state());
     check(same.mesh === 'builtin:bar' && same.stats.vertices === bar.stats.vertices, 'loadScene without mesh keeps builtin:bar');
