@@ -96,6 +96,15 @@ std::vector<Vec3> some_gradients(const PassInput& in, const std::vector<Vec3>& n
     return g;
 }
 
+// some_gradients for `in`'s own normals, set as the GPU's gradients too.
+std::vector<Vec3> upload_some_gradients(const PassInput& in, gpu::GpuPasses& gpu) {
+    std::vector<Vec3> normals;
+    estimate_normals(in.positions, in.rings, normals);
+    const std::vector<Vec3> gradients = some_gradients(in, normals);
+    gpu.set_gradients(gradients);
+    return gradients;
+}
+
 void report(const char* pass, const std::string& mesh, double error, double scale) {
     std::printf("gpu-vs-cpu %-12s %-45s max error %.3g (relative %.3g)\n", pass, mesh.c_str(), error, error / scale);
 }
@@ -156,10 +165,8 @@ TEST_CASE("GPU midpoint predictor equals predict_midpoints", "[gpu]") {
     const InnerMotion motion = test_motion();
     for (const PassInput& in : pass_inputs()) {
         gpu::GpuPasses gpu(in.positions, in.s, in.rings);
-        std::vector<Vec3> normals, cpu;
-        estimate_normals(in.positions, in.rings, normals);
-        const std::vector<Vec3> gradients = some_gradients(in, normals);
-        gpu.set_gradients(gradients);
+        std::vector<Vec3> cpu;
+        const std::vector<Vec3> gradients = upload_some_gradients(in, gpu);
         const double h = 1.0 / 250.0;
         predict_midpoints(motion.at(0.3), h, in.s, RegionParts::of(in.s, in.rings), gradients, in.positions, cpu);
         gpu.predict_midpoints(motion.at(0.3), h);
@@ -179,10 +186,7 @@ TEST_CASE("GPU deformation pass equals one RK4 deformation_step", "[gpu]") {
         motion.set_stream_origin(origin);
         for (const PassInput& in : pass_inputs()) {
             gpu::GpuPasses gpu(in.positions, in.s, in.rings);
-            std::vector<Vec3> normals;
-            estimate_normals(in.positions, in.rings, normals);
-            const std::vector<Vec3> gradients = some_gradients(in, normals);
-            gpu.set_gradients(gradients);
+            const std::vector<Vec3> gradients = upload_some_gradients(in, gpu);
             const StepMotion step = StepMotion::sample(motion, 0.4, 1.0 / 250.0);
             std::vector<Vec3> cpu = in.positions;
             deformation_step(step, in.s, RegionParts::of(in.s, in.rings), gradients, cpu, cpu);
@@ -201,10 +205,7 @@ TEST_CASE("GPU gauge samples are their vertices' positions and gradients, and th
     const InnerMotion motion = test_motion();
     for (const PassInput& in : pass_inputs()) {
         gpu::GpuPasses gpu(in.positions, in.s, in.rings);
-        std::vector<Vec3> normals;
-        estimate_normals(in.positions, in.rings, normals);
-        const std::vector<Vec3> gradients = some_gradients(in, normals);
-        gpu.set_gradients(gradients);
+        const std::vector<Vec3> gradients = upload_some_gradients(in, gpu);
         const std::vector<std::uint32_t> samples = gauge_samples(in.s, blend_vertices(in.s));
         REQUIRE(samples.size() > 19);
         gpu.set_gauge_samples(samples);
