@@ -1,8 +1,10 @@
 #pragma once
 // The GPU's steps of a deformation: the CPU's steps (deform/cpu_steps.h) pass
-// for pass, with the state in textures (sec. 5). A step reads nothing back; the
-// positions are read back from the vertex texture when asked for, and a
-// renderer can draw the texture itself (Deformation::device_vertices()).
+// for pass, with the state in textures (sec. 5). With sec. 5's steps alone a step
+// reads nothing back; the default scheme reads back the gauge's samples and the
+// fold count (docs/gpu.md, "Read-backs"). The positions are read back from the
+// vertex texture when asked for, and a renderer can draw the texture itself
+// (Deformation::device_vertices()).
 //
 // Needs a current GL context for the deformation's whole life (gpu/context.h).
 
@@ -13,9 +15,8 @@
 
 namespace vfsd::gpu {
 
-// Throws InputError as the CPU's does; GpuUnavailable for the sphere tool region,
-// options the passes do not mirror (gpu_mirrors) or coordinates beyond the float
-// textures' range, and GpuError for the GPU itself.
+// Throws InputError as the CPU's does; GpuUnavailable for the sphere tool region
+// or coordinates beyond the float textures' range, and GpuError for the GPU itself.
 Deformation make_gpu_deformation(const std::vector<Vec3>& positions, const VertexRings& rings, Region region,
                                  InnerMotion motion, DeformationOptions options);
 // The prepared scene's deformation on the GPU from t = 0.
