@@ -192,7 +192,11 @@ Program::Program(std::string name, const std::vector<std::string>& vertex_files,
 }
 
 void Program::use() const { glUseProgram(name_.id()); }
-GLint Program::location(const char* uniform) const { return glGetUniformLocation(name_.id(), uniform); }
+GLint Program::location(const char* uniform) const {
+    const auto [it, added] = locations_.try_emplace(uniform, -1);
+    if (added) it->second = glGetUniformLocation(name_.id(), uniform);
+    return it->second;
+}
 void Program::set(const char* uniform, int value) const { glUniform1i(location(uniform), value); }
 void Program::set(const char* uniform, int x, int y) const { glUniform2i(location(uniform), x, y); }
 void Program::set(const char* uniform, float value) const { glUniform1f(location(uniform), value); }

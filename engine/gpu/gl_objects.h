@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -122,6 +123,9 @@ private:
     GLint location(const char* uniform) const;
     GlName<detail::delete_program> name_;
     std::string program_name_;
+    // Uniform locations by name, looked up once: a step sets about 60 (three
+    // Motion structs with the gauge's coefficients), each a driver call otherwise.
+    mutable std::unordered_map<std::string, GLint> locations_;
 };
 
 // A buffer object (vertex or index data).
