@@ -182,7 +182,8 @@ void GpuPasses::deformation_step(const StepMotion& motion) {
 
 namespace {
 
-// An integer texture of `count` items of `components` (1 or 4) in `layout`.
+// An integer texture of `count` items of `components` (1 or 4) each, laid out as
+// TextureLayout::for_count lays out `count` items.
 Texture integer_texture(const std::vector<std::int32_t>& items, int components, std::size_t count,
                         int max_texture_size) {
     const TextureLayout layout = TextureLayout::for_count(count, max_texture_size);
