@@ -13,6 +13,7 @@
 #include "deform/quality.h"
 #include "mesh/builtin_meshes.h"
 #include "mesh/geometry.h"
+#include "test_fold_support.h"
 
 using namespace vfsd;
 
@@ -79,15 +80,6 @@ TEST_CASE("the fold count finds the triangles a deformation turned over, and onl
 
 namespace {
 
-// A unit sphere whose vertices are moved radially by up to ±`roughness` (its
-// edges are about 0.13 long): a scanned surface's bumps at the scale of one triangle.
-TriangleMesh rough_sphere(double roughness, std::mt19937& random) {
-    TriangleMesh m = make_builtin_mesh("sphere", 3);
-    std::uniform_real_distribution<double> bump(-roughness, roughness);
-    for (Vec3& p : m.positions) p *= 1.0 + bump(random);
-    return m;
-}
-
 // x ↦ A x + t: a rotation times stretches of σ and 1/σ along random axes (volume kept).
 std::vector<Vec3> stretched(const std::vector<Vec3>& x, double sigma, std::mt19937& random) {
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -107,7 +99,7 @@ TEST_CASE("no affine map reverses a triangle, however rough the mesh", "[quality
     std::mt19937 random(10);
     std::size_t tipped = 0;  // what the neighbour measure counts under the same maps
     for (int trial = 0; trial < 12; ++trial) {
-        const TriangleMesh mesh = rough_sphere(0.05 * (trial % 4), random);
+        const TriangleMesh mesh = test::rough_sphere(0.05 * (trial % 4), random);
         const double sigma = 1.0 + 0.5 * (trial % 5);  // up to 3
         const std::vector<Vec3> after = stretched(mesh.positions, sigma, random);
         INFO("trial " << trial << ", stretch " << sigma);

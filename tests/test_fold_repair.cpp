@@ -60,7 +60,7 @@ TEST_CASE("the fold repair leaves a mesh the map did not fold bit for bit", "[de
     for (int trial = 0; trial < 10; ++trial) {
         std::vector<Vec3> x = mapped(sphere.positions, random_affine(random));
         const std::vector<Vec3> before = x;
-        CHECK(repair.repair(x, rings) == 0);
+        CHECK(repair.repair(x, rings, true) == 0);
         CHECK(x == before);
     }
     CHECK(repair.stats().steps_repaired == 0);
@@ -83,12 +83,64 @@ TEST_CASE("the fold repair untangles a vertex pushed through its neighbour and p
         x[v] = x[a] + 0.7 * (x[a] - x[v]);
         const double pushed = glm::length(x[v] - map(sphere.positions[v]));
         REQUIRE(!flipped_triangle_list(mapped(sphere.positions, map), x, sphere.triangles).empty());
-        CHECK(repair.repair(x, rings) == 0);
+        CHECK(repair.repair(x, rings, true) == 0);
         CHECK(flipped_triangle_list(mapped(sphere.positions, map), x, sphere.triangles).empty());
         CHECK(repair.stats().steps_repaired == 1);
         CHECK(repair.stats().max_shift > 0.0);
         // The ring fits reproduce an affine map: v ends far nearer its image than it was pushed.
         CHECK(glm::length(x[v] - map(sphere.positions[v])) < 0.25 * pushed);
+    }
+}
+
+TEST_CASE(
+    "the repair's affine test finds no fold under any affine map of a rough mesh, and a vertex pushed "
+    "past its neighbour",
+    "[deform][repair]") {
+    std::mt19937 random(7);
+    std::size_t tipped = 0;  // what the neighbour test finds under the same maps
+    for (int trial = 0; trial < 12; ++trial) {
+        const TriangleMesh mesh = test::rough_sphere(0.05 * (trial % 4), random);
+        const VertexRings rings = build_vertex_rings(mesh);
+        const std::vector<double> s(mesh.positions.size(), 0.5);
+        FoldRepair repair(mesh.positions, s, rings);
+        std::vector<Vec3> x = mapped(mesh.positions, random_affine(random));
+        INFO("trial " << trial);
+        CHECK(repair.affine_folded(x, rings).empty());
+        tipped += flipped_triangle_list(mesh.positions, x, mesh.triangles).size();
+        const Triangle& picked = mesh.triangles[random() % mesh.triangles.size()];
+        x[picked[0]] = x[picked[1]] + 0.5 * (x[picked[1]] - x[picked[0]]);  // past its neighbour
+        const std::vector<std::uint32_t> found = repair.affine_folded(x, rings);
+        REQUIRE(!found.empty());
+        // The triangles of the vertex's fan, and the measure's own (deform/quality.h).
+        const FoldChecks checks = repair.checks();
+        std::vector<Triangle> found_triangles, measured;
+        for (const std::uint32_t i : found) {
+            const Triangle& t = checks.triangles[checks.check[i]];
+            CHECK((t[0] == picked[0] || t[1] == picked[0] || t[2] == picked[0]));
+            found_triangles.push_back(t);
+        }
+        for (const std::uint32_t t : reversed_triangle_list(mesh.positions, x, mesh.triangles))
+            measured.push_back(mesh.triangles[t]);
+        CHECK(found_triangles.size() == measured.size());
+        CHECK(repair.repair(x, rings, true) == 0);
+        CHECK(repair.affine_folded(x, rings).empty());
+    }
+    INFO("the neighbour test found " << tipped << " triangles under the affine maps alone");
+    CHECK(tipped > 0);  // the reason the affine test exists: a rough mesh's bumps tip under a stretch
+}
+
+TEST_CASE("the affine test runs every 1/5 in time, whatever the steps and either way", "[deform][repair]") {
+    for (const int steps : {1, 3, 5, 10, 20, 25, 250, 1000}) {
+        int due = 0, due_back = 0;
+        for (int k = 0; k < steps; ++k) {
+            const double from = double(k) / steps, to = double(k + 1) / steps;
+            due += FoldRepair::affine_test_due(from, to);
+            due_back += FoldRepair::affine_test_due(to, from);
+        }
+        INFO(steps << " steps");
+        CHECK(due == std::min(steps, 5));  // every step passes one at 5 or fewer
+        CHECK(due_back == due);
+        CHECK(FoldRepair::affine_test_due(double(steps - 1) / steps, 1.0));  // the last step, t = 1, is tested
     }
 }
 
@@ -108,7 +160,7 @@ TEST_CASE("the fold repair moves only blend vertices", "[deform][repair]") {
         const std::uint32_t a = neighbour_of(rings, v);
         x[v] = x[a] + 0.7 * (x[a] - x[v]);
         const std::vector<Vec3> before = x;
-        repair.repair(x, rings);
+        repair.repair(x, rings, true);
         for (std::size_t u = 0; u < x.size(); ++u)
             if (s[u] == 0.0 || s[u] == 1.0) CHECK(x[u] == before[u]);
         CHECK(x[v] != before[v]);

@@ -69,7 +69,7 @@ void CpuSteps::step(double time, double h, int step) {
     }
     positions_.swap(next_);
     const std::size_t repaired = fold_repair_.stats().steps_repaired;
-    fold_repair_.repair(positions_, rings_);
+    fold_repair_.repair(positions_, rings_, FoldRepair::affine_test_due(time, time + h));
     // A repair moves vertices up to an edge: the keeper's ∂V/∂x from the step's
     // midpoint no longer describes their rings, so it is taken where they are.
     if (fold_repair_.stats().steps_repaired != repaired && volume_.active())

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -19,6 +20,9 @@ constexpr int kHarmonicIterations = 200;  // Gauss–Seidel iterations of a patc
 constexpr double kRegularisation = 1.0;   // of the affine fit toward the rotation, per mean squared radius
 constexpr int kGrowth = 3;                // rings around the folded triangles' corners, at most
 constexpr double kReach = 1.0;            // the most a vertex moves in a step, in its ring's mean edges
+constexpr double kAffineTests = 5.0;      // affine fold tests per unit time
+constexpr double kStarWeight = 1e-3;      // of the star fit's normal term, per squared radius
+constexpr std::uint32_t kNone = ~std::uint32_t(0);
 
 // The mean length of v's ring edges in x.
 double mean_edge(const std::vector<Vec3>& x, const VertexRings& rings, std::uint32_t v) {
@@ -37,6 +41,16 @@ struct AffineFit {
     glm::dmat3 a{1.0};
     Vec3 apply(const Vec3& y) const { return to_centre + a * (y - from_centre); }
 };
+
+// The unit normal of v's star in x: the sum of its ring's wedge area vectors.
+Vec3 star_normal(const std::vector<Vec3>& x, const VertexRings& rings, std::uint32_t v) {
+    Vec3 sum(0.0);
+    for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
+        if (rings.wedge[k])
+            sum += glm::cross(x[rings.neighbours[k]] - x[v], x[rings.neighbours[rings.next(v, k)]] - x[v]);
+    const double length = glm::length(sum);
+    return length > 0.0 ? sum / length : Vec3(0.0);
+}
 
 AffineFit fit_affine(const std::vector<Vec3>& from, const std::vector<Vec3>& to) {
     AffineFit f;
@@ -103,6 +117,178 @@ FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>&
     mark_.assign(n, 0);
     against_at_rest_.assign(check_.size(), 0);
     for (const std::uint32_t t : folded(rest_)) against_at_rest_[t] = 1;
+    prepare_affine_test(rings);
+}
+
+namespace {
+
+// Star v's sums in x (about x[v]): its count, Σ yᵢ and Σ yᵢ pᵢᵀ over v and its
+// ring, pᵢ = rest_[i] − rest_[v], yᵢ = x[i] − x[v], and its unit normal.
+FoldRepair::StarSums star_sums(const std::vector<Vec3>& rest, const std::vector<Vec3>& x, const VertexRings& rings,
+                               std::uint32_t v) {
+    FoldRepair::StarSums sums;
+    sums.count = double(rings.end(v) - rings.begin(v) + 1);
+    for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+        const std::uint32_t y = rings.neighbours[k];
+        const Vec3 q = x[y] - x[v];
+        sums.sum += q, sums.product += glm::outerProduct(q, rest[y] - rest[v]);
+    }
+    sums.normal = star_normal(x, rings, v);
+    return sums;
+}
+
+// The moments of the three stars of triangle t together (points shared by two
+// stars counted twice, as reversed_triangle_list does) about their centres:
+// Σ (yᵢ − ȳ)(pᵢ − p̄)ᵀ, from each star's sums moved to the origins x[t[0]] and
+// rest[t[0]].
+glm::dmat3 joint_moment(const Triangle& t, const std::vector<Vec3>& rest, const std::vector<Vec3>& x,
+                        const FoldRepair::StarSums* const star[3], const FoldRepair::StarSums* const rest_star[3]) {
+    double count = 0.0;
+    Vec3 sum_y(0.0), sum_p(0.0);
+    glm::dmat3 product(0.0);
+    for (int c = 0; c < 3; ++c) {
+        const Vec3 dy = x[t[c]] - x[t[0]], dp = rest[t[c]] - rest[t[0]];
+        const FoldRepair::StarSums &now = *star[c], &then = *rest_star[c];
+        product += now.product + glm::outerProduct(now.sum, dp) + glm::outerProduct(dy, then.sum) +
+                   now.count * glm::outerProduct(dy, dp);
+        sum_y += now.sum + now.count * dy, sum_p += then.sum + then.count * dp, count += now.count;
+    }
+    return product - glm::outerProduct(sum_y, sum_p) / count;
+}
+
+}  // namespace
+
+// The fit of check_ entry i's stars minimises Σ |A pᵢ − qᵢ|² + λ |A n − m|² over
+// their points about their centres, n the triangle's unit normal at rest, m the
+// mean of its corners' star normals now, λ = 10⁻³ Σ |pᵢ|²: the stars are nearly
+// flat, their points leave A's action on n free, and the normal term fills it in
+// (reversed_triangle_list takes m from the points' best rotation instead). The
+// solution A = (Σ qᵢ pᵢᵀ + λ m nᵀ) (Σ pᵢ pᵢᵀ + λ n nᵀ)⁻¹ has its inverse fixed at
+// rest, and on flat stars A's action on their plane, all a triangle's image
+// needs, is the points' own least squares: any affine map is found exactly.
+void FoldRepair::prepare_affine_test(const VertexRings& rings) {
+    fit_of_.assign(rest_.size(), kNone);
+    for (const std::uint32_t i : check_)
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = triangles_[i][c];
+            if (fit_of_[v] == kNone)
+                fit_of_[v] = static_cast<std::uint32_t>(fit_vertices_.size()), fit_vertices_.push_back(v);
+        }
+    rest_sums_.resize(fit_vertices_.size());
+    sums_.resize(fit_vertices_.size());
+    parallel_for(fit_vertices_.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t j = first; j < last; ++j) rest_sums_[j] = star_sums(rest_, rest_, rings, fit_vertices_[j]);
+    });
+    rest_fits_.resize(check_.size());
+    affine_flags_.assign(check_.size(), 0);
+    near_.assign(rest_.size(), 0);
+    parallel_for(check_.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+            const Triangle& t = triangles_[check_[i]];
+            const StarSums* stars[3] = {&rest_sums_[fit_of_[t[0]]], &rest_sums_[fit_of_[t[1]]],
+                                        &rest_sums_[fit_of_[t[2]]]};
+            const glm::dmat3 moment = joint_moment(t, rest_, rest_, stars, stars);
+            const Vec3 area = glm::cross(rest_[t[1]] - rest_[t[0]], rest_[t[2]] - rest_[t[0]]);
+            RestFit& fit = rest_fits_[i];
+            if (!(glm::length(area) > 0.0)) continue;  // weight 0: a triangle of no area is not tested
+            fit.normal = glm::normalize(area);
+            fit.weight = kStarWeight * (moment[0][0] + moment[1][1] + moment[2][2]);
+            const glm::dmat3 regularised = moment + fit.weight * glm::outerProduct(fit.normal, fit.normal);
+            if (glm::determinant(regularised) != 0.0)
+                fit.inverse = glm::inverse(regularised);
+            else
+                fit.weight = 0.0;
+        }
+    });
+}
+
+bool FoldRepair::affine_test_due(double from, double to) {
+    const double a = std::min(from, to) * kAffineTests, b = std::max(from, to) * kAffineTests;
+    return std::floor(b + 1e-9) > std::floor(a + 1e-9);
+}
+
+std::vector<std::uint32_t> FoldRepair::affine_folded(const std::vector<Vec3>& x, const VertexRings& rings) {
+    test_affine(x, rings, nullptr);
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t i = 0; i < check_.size(); ++i)
+        if (affine_flags_[i]) out.push_back(i);
+    return out;
+}
+
+// The affine test of every check_ entry into affine_flags_, or with `moved` of
+// those a move of these vertices can change: the entries with a corner whose
+// star holds one of them.
+void FoldRepair::test_affine(const std::vector<Vec3>& x, const VertexRings& rings,
+                             const std::vector<std::uint32_t>* moved) {
+    std::vector<std::uint32_t> stars, entries;  // fit_vertices_ and check_ positions to test again
+    if (moved) {
+        for (const std::uint32_t v : *moved) {
+            near_[v] = 1;
+            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) near_[rings.neighbours[k]] = 1;
+        }
+        for (std::uint32_t j = 0; j < fit_vertices_.size(); ++j)
+            if (near_[fit_vertices_[j]]) stars.push_back(j);
+        for (std::uint32_t i = 0; i < check_.size(); ++i) {
+            const Triangle& t = triangles_[check_[i]];
+            if (near_[t[0]] || near_[t[1]] || near_[t[2]]) entries.push_back(i);
+        }
+        for (const std::uint32_t j : stars) near_[fit_vertices_[j]] = 0;
+        for (const std::uint32_t v : *moved) {
+            near_[v] = 0;
+            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) near_[rings.neighbours[k]] = 0;
+        }
+    }
+    const std::size_t star_count = moved ? stars.size() : fit_vertices_.size();
+    parallel_for(star_count, [&](std::size_t first, std::size_t last) {
+        for (std::size_t k = first; k < last; ++k) {
+            const std::uint32_t j = moved ? stars[k] : static_cast<std::uint32_t>(k);
+            sums_[j] = star_sums(rest_, x, rings, fit_vertices_[j]);
+        }
+    });
+    const std::size_t entry_count = moved ? entries.size() : check_.size();
+    parallel_for(entry_count, [&](std::size_t first, std::size_t last) {
+        for (std::size_t k = first; k < last; ++k) {
+            const std::uint32_t i = moved ? entries[k] : static_cast<std::uint32_t>(k);
+            affine_flags_[i] = reversed_by_fit(i, x);
+        }
+    });
+}
+
+// Whether check_ entry i's image in x faces against the one its fit gives it.
+bool FoldRepair::reversed_by_fit(std::uint32_t i, const std::vector<Vec3>& x) const {
+    const RestFit& fit = rest_fits_[i];
+    if (fit.weight == 0.0) return false;
+    const Triangle& t = triangles_[check_[i]];
+    const std::uint32_t j[3] = {fit_of_[t[0]], fit_of_[t[1]], fit_of_[t[2]]};
+    const StarSums* now[3] = {&sums_[j[0]], &sums_[j[1]], &sums_[j[2]]};
+    const StarSums* then[3] = {&rest_sums_[j[0]], &rest_sums_[j[1]], &rest_sums_[j[2]]};
+    const Vec3 turned = now[0]->normal + now[1]->normal + now[2]->normal;
+    const double length = glm::length(turned);
+    const glm::dmat3 a = (joint_moment(t, rest_, x, now, then) +
+                          (length > 0.0 ? fit.weight / length : 0.0) * glm::outerProduct(turned, fit.normal)) *
+                         fit.inverse;
+    const Vec3 u = rest_[t[1]] - rest_[t[0]], w = rest_[t[2]] - rest_[t[0]];
+    const Vec3 image = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
+    return glm::dot(glm::cross(a * u, a * w), image) <= 0.0;
+}
+
+// The entries folded by the neighbour test (`neighbour` of them), and by the
+// affine test when asked: all of them, or with `moved` those near the moved
+// vertices (the others keep their last result).
+std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
+                                              const std::vector<std::uint32_t>* moved, std::size_t& neighbour) {
+    std::vector<std::uint32_t> out = folded(x);
+    neighbour = out.size();
+    if (!affine_test) return out;
+    test_affine(x, rings, moved);
+    std::vector<std::uint32_t> both;
+    std::size_t k = 0;
+    for (std::uint32_t i = 0; i < check_.size(); ++i) {
+        const bool neighbour = k < out.size() && out[k] == i;
+        k += neighbour;
+        if (neighbour || affine_flags_[i]) both.push_back(i);
+    }
+    return both;
 }
 
 // The check_ entries (positions in check_) whose triangle faces against the mean
@@ -204,11 +390,15 @@ void FoldRepair::refit_patches(const std::vector<std::uint32_t>& vertices, std::
     }
 }
 
-std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings) {
+std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, bool affine_test) {
     if (!active()) return 0;
-    std::vector<std::uint32_t> bad = folded(x);
+    // A round's folds: the neighbour test's first (the count the fold guard and
+    // the battery report), then those of both tests.
+    using Score = std::pair<std::size_t, std::size_t>;
+    std::size_t neighbour = 0;
+    std::vector<std::uint32_t> bad = folded(x, rings, affine_test, nullptr, neighbour);
     if (bad.empty()) return 0;
-    const std::size_t found = bad.size();
+    const Score found{neighbour, bad.size()};
     ++stats_.steps_repaired;
     struct Start {
         Vec3 position;
@@ -220,7 +410,7 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings) {
     // folds more than it unfolds must not start a cascade), or its start when
     // no round left fewer than it found.
     std::unordered_map<std::uint32_t, Vec3> best;
-    std::size_t fewest = found;
+    Score fewest = found, last = found;
     for (int round = 0; round < kRounds && !bad.empty(); ++round) {
         const std::vector<std::uint32_t> vertices = vertices_to_move(bad, std::min(kGrowth, 1 + round / 3), rings);
         for (const std::uint32_t v : vertices) start.emplace(v, Start{x[v], kReach * mean_edge(x, rings, v)});
@@ -236,14 +426,15 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings) {
             const double length = glm::length(move);
             if (length > s.reach) x[v] = s.position + (s.reach / length) * move;
         }
-        bad = folded(x);
-        if (bad.size() < fewest) {
-            fewest = bad.size();
+        bad = folded(x, rings, affine_test, &vertices, neighbour);
+        last = {neighbour, bad.size()};
+        if (last < fewest) {
+            fewest = last;
             best.clear();
             for (const auto& [v, s] : start) best.emplace(v, x[v]);
         }
     }
-    if (bad.size() > fewest || best.empty()) {
+    if (fewest < last || best.empty()) {
         for (const auto& [v, s] : start) {
             const auto kept = best.find(v);
             x[v] = kept != best.end() ? kept->second : s.position;
@@ -252,13 +443,16 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings) {
     double shift = 0.0;
     for (const auto& [v, s] : start) shift = std::max(shift, glm::length(x[v] - s.position));
     stats_.max_shift = std::max(stats_.max_shift, shift);
-    return fewest;
+    return fewest.second;
 }
 
 std::size_t FoldRepair::bytes() const {
     return rest_.capacity() * sizeof(Vec3) + movable_.capacity() + triangles_.capacity() * sizeof(Triangle) +
            (check_.capacity() + neighbour_offsets_.capacity() + neighbours_.capacity()) * sizeof(std::uint32_t) +
-           against_at_rest_.capacity() + flags_.capacity() + normals_.capacity() * sizeof(Vec3) + mark_.capacity();
+           against_at_rest_.capacity() + flags_.capacity() + normals_.capacity() * sizeof(Vec3) + mark_.capacity() +
+           (fit_vertices_.capacity() + fit_of_.capacity()) * sizeof(std::uint32_t) +
+           (rest_sums_.capacity() + sums_.capacity()) * sizeof(StarSums) + rest_fits_.capacity() * sizeof(RestFit) +
+           affine_flags_.capacity() + near_.capacity();
 }
 
 }  // namespace vfsd

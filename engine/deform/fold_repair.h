@@ -19,14 +19,27 @@
 // Each round takes the folded triangles' blend corners and the blend vertices
 // up to min(3, 1 + round / 3) rings around them; no vertex moves further than its
 // ring's mean edge in one step. The step keeps the round that left the fewest
-// folds (none if no round did better than the step found), so a repair never
-// leaves more folds than it found. Only blend vertices move: the outer region
-// stays exactly put and the inner region rigid. It acts only after a step that
-// folded something, and the repaired vertices leave their path lines by the
+// folds, by the neighbour test first and then by both tests (none if no round
+// did better than the step found), so a repair never leaves more folds than it
+// found. Only blend vertices move: the outer region stays exactly put and the
+// inner region rigid. It acts only after a step that folded something (by a
+// test that ran after it), and the repaired vertices leave their path lines by the
 // shifts the stats report (docs/method.md, "The fold repair").
+//
+// After each step that passes a multiple of 1/5 in time (every 50th of the
+// default 250 steps; every step of 5 or fewer) the repair also acts on a
+// second fold test, exact for affine maps: deform/quality.h's reversed
+// triangles (the affine map that best takes the triangle's corners' stars from
+// rest to now; folded when the triangle's image faces against the one that map
+// gives it), with each star's sums shared by its triangles. The neighbour test
+// misses a strip of triangles that turns over together and counts a rough
+// surface's bumps tipped by a stretch; this one does neither (docs/method.md,
+// "Does the fold count measure folds?").
 
 #include <cstdint>
 #include <vector>
+
+#include <glm/mat3x3.hpp>
 
 #include "deform/quality.h"
 #include "mesh/triangle_mesh.h"
@@ -60,16 +73,41 @@ public:
     FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings);
 
     bool active() const { return !check_.empty(); }
+    // Whether the affine test runs after the step from time `from` to `to`: when
+    // it passes a multiple of 1/5 (either way), so that the test follows how far
+    // the deformation went, not how many steps it took, and scrubbing back and
+    // forth repairs as a direct run does.
+    static bool affine_test_due(double from, double to);
     // Repairs the folds of `positions` (the same order as at construction) as
-    // described above; returns the number of triangles still folded after the
-    // last round (0 almost always).
-    std::size_t repair(std::vector<Vec3>& positions, const VertexRings& rings);
+    // described above, by the neighbour test and, when `affine_test`, the affine
+    // one; returns the number of triangles still folded after the last round.
+    std::size_t repair(std::vector<Vec3>& positions, const VertexRings& rings, bool affine_test);
+    // The check entries (as in checks()) the affine test finds folded in `positions`.
+    std::vector<std::uint32_t> affine_folded(const std::vector<Vec3>& positions, const VertexRings& rings);
     const FoldRepairStats& stats() const { return stats_; }
     FoldChecks checks() const { return {triangles_, check_, neighbour_offsets_, neighbours_, against_at_rest_}; }
     std::size_t bytes() const;
 
+    // The affine test's sums of one star and its fit of one triangle at rest.
+    struct StarSums {
+        double count = 0.0;
+        Vec3 sum{0.0};            // Σ yᵢ, each about the star's vertex
+        glm::dmat3 product{0.0};  // Σ yᵢ pᵢᵀ: at rest yᵢ = pᵢ, now yᵢ = qᵢ
+        Vec3 normal{0.0};         // the star's unit normal now
+    };
+    struct RestFit {
+        glm::dmat3 inverse{1.0};  // of the regularised second moment
+        Vec3 normal{0.0};         // the triangle's unit normal
+        double weight = 0.0;      // the regularisation's
+    };
+
 private:
     std::vector<std::uint32_t> folded(const std::vector<Vec3>& x);
+    std::vector<std::uint32_t> folded(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
+                                      const std::vector<std::uint32_t>* moved, std::size_t& neighbour);
+    void prepare_affine_test(const VertexRings& rings);
+    void test_affine(const std::vector<Vec3>& x, const VertexRings& rings, const std::vector<std::uint32_t>* moved);
+    bool reversed_by_fit(std::uint32_t entry, const std::vector<Vec3>& x) const;
     std::vector<std::uint32_t> vertices_to_move(const std::vector<std::uint32_t>& folded, int rings_out,
                                                 const VertexRings& rings);
     void refit_rings(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x, const VertexRings& rings) const;
@@ -85,6 +123,14 @@ private:
     std::vector<Vec3> normals_;                  // per triangles_ entry, scratch
     std::vector<std::uint8_t> flags_;            // per check_ entry, scratch
     std::vector<std::uint8_t> mark_;             // per vertex, scratch
+    // The affine test's data (see prepare_affine_test): its vertices (the corners
+    // of the checked triangles; fit_of_[v] indexes them, or kNone) with their
+    // stars' sums, and per check_ entry what its fit keeps from rest.
+    std::vector<std::uint32_t> fit_vertices_, fit_of_;
+    std::vector<StarSums> rest_sums_, sums_;  // per fit vertex; sums_ scratch
+    std::vector<RestFit> rest_fits_;          // per check_ entry
+    std::vector<std::uint8_t> affine_flags_;  // per check_ entry: the affine test's last result
+    std::vector<std::uint8_t> near_;          // per vertex, scratch
     FoldRepairStats stats_;
 };
 

@@ -47,7 +47,8 @@ const std::vector<Vec3>& checked_size(const std::vector<Vec3>& positions) {
 // The step of CpuSteps::step, pass for pass. With the paper's steps alone it
 // reads nothing back; the stream gauge's fit reads its samples back (two texels
 // each) once per step and fits on the CPU, and the fold test reads one texel per
-// step, the positions only after a step that folded, for the CPU's repair.
+// step; the positions are read back, for the CPU's repair, only after a step
+// that folded or one the repair's affine test is due after (every 1/5 in time).
 class GpuSteps final : public StepBackend {
 public:
     GpuSteps(const std::vector<Vec3>& positions, const VertexRings& rings, const Region& region, InnerMotion motion,
@@ -78,7 +79,7 @@ public:
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
         passes_.deformation_step(motion);
         positions_valid_ = false;
-        repair_folds();
+        repair_folds(FoldRepair::affine_test_due(time, time + h));
         if (keep_volume_) passes_.keep_volume();
         positions_valid_ = false;
     }
@@ -128,13 +129,15 @@ private:
         gauge_fit_ = GaugeFit(std::move(samples));
     }
 
-    // FoldRepair::repair on the CPU after a step the fold pass found folds in; the
-    // repaired positions go back up, with their rings' area vectors for the keeper.
-    void repair_folds() {
-        if (!fold_repair_.active() || passes_.count_folds() == 0) return;
+    // FoldRepair::repair on the CPU after a step the fold pass found folds in, or
+    // one the affine test is due after (it runs on the CPU, on the positions read
+    // back); the repaired positions go back up, with their rings' area vectors
+    // for the keeper.
+    void repair_folds(bool affine_test) {
+        if (!fold_repair_.active() || (!affine_test && passes_.count_folds() == 0)) return;
         std::vector<Vec3> work = gather_in_order(positions(), order_);
         const std::size_t repaired = fold_repair_.stats().steps_repaired;
-        fold_repair_.repair(work, rings_);
+        fold_repair_.repair(work, rings_, affine_test);
         if (fold_repair_.stats().steps_repaired == repaired) return;
         for (std::size_t i = 0; i < order_.size(); ++i) positions_[order_[i]] = work[i];
         passes_.set_positions(positions_);
