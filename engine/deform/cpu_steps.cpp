@@ -70,14 +70,17 @@ void CpuSteps::step(double time, double h, int step) {
     positions_.swap(next_);
     const std::size_t repaired = fold_repair_.stats().steps_repaired;
     fold_repair_.repair(positions_, rings_, FoldRepair::affine_test_due(time, time + h));
-    // A repair moves vertices up to an edge: the keeper's ∂V/∂x from the step's
-    // midpoint no longer describes their rings, so it is taken where they are.
-    if (fold_repair_.stats().steps_repaired != repaired && volume_.active())
-        ring_area_vectors(positions_, rings_, parts_.blend, area_vectors_);
     // The volume drift is undone after every step, while it is small and smooth
     // (restoring it every few steps folded thin features); it is then part of
-    // the step's map, and a step back undoes it as well.
-    if (!region_.sphere_tool) volume_restored_ += std::abs(volume_.restore(positions_, area_vectors_));
+    // the step's map, and a step back undoes it as well. A repair moves vertices
+    // up to an edge: the keeper's ∂V/∂x from the step's midpoint no longer
+    // describes their rings, so it is taken where they are, and again after each
+    // of the keeper's steps.
+    const bool moved = fold_repair_.stats().steps_repaired != repaired && volume_.active();
+    for (int k = 0; !region_.sphere_tool && k < (moved ? VolumeKeeper::kStepsAfterRepair : 1); ++k) {
+        if (moved) ring_area_vectors(positions_, rings_, parts_.blend, area_vectors_);
+        volume_restored_ += std::abs(volume_.restore(positions_, area_vectors_));
+    }
     input_order_current_ = false;
 }
 

@@ -139,22 +139,24 @@ FoldRepair::StarSums star_sums(const std::vector<Vec3>& rest, const std::vector<
 
 // The moments of the three stars of triangle t together (points shared by two
 // stars counted twice, as reversed_triangle_list does) about their centres:
-// Σ (yᵢ − ȳ)(pᵢ − p̄)ᵀ, from each star's sums moved to the origins x[t[0]] and
-// rest[t[0]].
+// Σ (yᵢ − ȳ)(pᵢ − p̄)ᵀ, from each star's sums now and its Σ pᵢ at rest, moved to
+// the origins x[t[0]] and rest[t[0]].
 glm::dmat3 joint_moment(const Triangle& t, const std::vector<Vec3>& rest, const std::vector<Vec3>& x,
-                        const FoldRepair::StarSums* const star[3], const FoldRepair::StarSums* const rest_star[3]) {
+                        const FoldRepair::StarSums* const star[3], const Vec3* const rest_sum[3]) {
     double count = 0.0;
     Vec3 sum_y(0.0), sum_p(0.0);
     glm::dmat3 product(0.0);
     for (int c = 0; c < 3; ++c) {
         const Vec3 dy = x[t[c]] - x[t[0]], dp = rest[t[c]] - rest[t[0]];
-        const FoldRepair::StarSums &now = *star[c], &then = *rest_star[c];
-        product += now.product + glm::outerProduct(now.sum, dp) + glm::outerProduct(dy, then.sum) +
+        const FoldRepair::StarSums& now = *star[c];
+        product += now.product + glm::outerProduct(now.sum, dp) + glm::outerProduct(dy, *rest_sum[c]) +
                    now.count * glm::outerProduct(dy, dp);
-        sum_y += now.sum + now.count * dy, sum_p += then.sum + then.count * dp, count += now.count;
+        sum_y += now.sum + now.count * dy, sum_p += *rest_sum[c] + now.count * dp, count += now.count;
     }
     return product - glm::outerProduct(sum_y, sum_p) / count;
 }
+
+glm::dmat3 symmetric(const double (&m)[6]) { return glm::dmat3(m[0], m[1], m[2], m[1], m[3], m[4], m[2], m[4], m[5]); }
 
 }  // namespace
 
@@ -174,30 +176,30 @@ void FoldRepair::prepare_affine_test(const VertexRings& rings) {
             if (fit_of_[v] == kNone)
                 fit_of_[v] = static_cast<std::uint32_t>(fit_vertices_.size()), fit_vertices_.push_back(v);
         }
-    rest_sums_.resize(fit_vertices_.size());
-    sums_.resize(fit_vertices_.size());
+    std::vector<StarSums> at_rest(fit_vertices_.size());
     parallel_for(fit_vertices_.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t j = first; j < last; ++j) rest_sums_[j] = star_sums(rest_, rest_, rings, fit_vertices_[j]);
+        for (std::size_t j = first; j < last; ++j) at_rest[j] = star_sums(rest_, rest_, rings, fit_vertices_[j]);
     });
+    for (const StarSums& star : at_rest) rest_sums_.push_back(star.sum);
     rest_fits_.resize(check_.size());
     affine_flags_.assign(check_.size(), 0);
     near_.assign(rest_.size(), 0);
     parallel_for(check_.size(), [&](std::size_t first, std::size_t last) {
         for (std::size_t i = first; i < last; ++i) {
             const Triangle& t = triangles_[check_[i]];
-            const StarSums* stars[3] = {&rest_sums_[fit_of_[t[0]]], &rest_sums_[fit_of_[t[1]]],
-                                        &rest_sums_[fit_of_[t[2]]]};
-            const glm::dmat3 moment = joint_moment(t, rest_, rest_, stars, stars);
+            const std::uint32_t j[3] = {fit_of_[t[0]], fit_of_[t[1]], fit_of_[t[2]]};
+            const StarSums* stars[3] = {&at_rest[j[0]], &at_rest[j[1]], &at_rest[j[2]]};
+            const Vec3* sums[3] = {&rest_sums_[j[0]], &rest_sums_[j[1]], &rest_sums_[j[2]]};
+            const glm::dmat3 moment = joint_moment(t, rest_, rest_, stars, sums);
             const Vec3 area = glm::cross(rest_[t[1]] - rest_[t[0]], rest_[t[2]] - rest_[t[0]]);
-            RestFit& fit = rest_fits_[i];
             if (!(glm::length(area) > 0.0)) continue;  // weight 0: a triangle of no area is not tested
-            fit.normal = glm::normalize(area);
-            fit.weight = kStarWeight * (moment[0][0] + moment[1][1] + moment[2][2]);
-            const glm::dmat3 regularised = moment + fit.weight * glm::outerProduct(fit.normal, fit.normal);
-            if (glm::determinant(regularised) != 0.0)
-                fit.inverse = glm::inverse(regularised);
-            else
-                fit.weight = 0.0;
+            const Vec3 normal = glm::normalize(area);
+            const double weight = kStarWeight * (moment[0][0] + moment[1][1] + moment[2][2]);
+            const glm::dmat3 regularised = moment + weight * glm::outerProduct(normal, normal);
+            if (!(glm::determinant(regularised) != 0.0)) continue;
+            const glm::dmat3 inverse = glm::inverse(regularised);
+            rest_fits_[i] = {{inverse[0][0], inverse[0][1], inverse[0][2], inverse[1][1], inverse[1][2], inverse[2][2]},
+                             weight};
         }
     });
 }
@@ -209,6 +211,7 @@ bool FoldRepair::affine_test_due(double from, double to) {
 
 std::vector<std::uint32_t> FoldRepair::affine_folded(const std::vector<Vec3>& x, const VertexRings& rings) {
     test_affine(x, rings, nullptr);
+    std::vector<StarSums>().swap(sums_);
     std::vector<std::uint32_t> out;
     for (std::uint32_t i = 0; i < check_.size(); ++i)
         if (affine_flags_[i]) out.push_back(i);
@@ -238,6 +241,7 @@ void FoldRepair::test_affine(const std::vector<Vec3>& x, const VertexRings& ring
             for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) near_[rings.neighbours[k]] = 0;
         }
     }
+    if (!moved) sums_.resize(fit_vertices_.size());
     const std::size_t star_count = moved ? stars.size() : fit_vertices_.size();
     parallel_for(star_count, [&](std::size_t first, std::size_t last) {
         for (std::size_t k = first; k < last; ++k) {
@@ -261,13 +265,14 @@ bool FoldRepair::reversed_by_fit(std::uint32_t i, const std::vector<Vec3>& x) co
     const Triangle& t = triangles_[check_[i]];
     const std::uint32_t j[3] = {fit_of_[t[0]], fit_of_[t[1]], fit_of_[t[2]]};
     const StarSums* now[3] = {&sums_[j[0]], &sums_[j[1]], &sums_[j[2]]};
-    const StarSums* then[3] = {&rest_sums_[j[0]], &rest_sums_[j[1]], &rest_sums_[j[2]]};
+    const Vec3* then[3] = {&rest_sums_[j[0]], &rest_sums_[j[1]], &rest_sums_[j[2]]};
+    const Vec3 u = rest_[t[1]] - rest_[t[0]], w = rest_[t[2]] - rest_[t[0]];
+    const Vec3 normal = glm::normalize(glm::cross(u, w));
     const Vec3 turned = now[0]->normal + now[1]->normal + now[2]->normal;
     const double length = glm::length(turned);
     const glm::dmat3 a = (joint_moment(t, rest_, x, now, then) +
-                          (length > 0.0 ? fit.weight / length : 0.0) * glm::outerProduct(turned, fit.normal)) *
-                         fit.inverse;
-    const Vec3 u = rest_[t[1]] - rest_[t[0]], w = rest_[t[2]] - rest_[t[0]];
+                          (length > 0.0 ? fit.weight / length : 0.0) * glm::outerProduct(turned, normal)) *
+                         symmetric(fit.inverse);
     const Vec3 image = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
     return glm::dot(glm::cross(a * u, a * w), image) <= 0.0;
 }
@@ -397,7 +402,10 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
     using Score = std::pair<std::size_t, std::size_t>;
     std::size_t neighbour = 0;
     std::vector<std::uint32_t> bad = folded(x, rings, affine_test, nullptr, neighbour);
-    if (bad.empty()) return 0;
+    if (bad.empty()) {
+        std::vector<StarSums>().swap(sums_);  // the affine test's sums are held only while a repair runs
+        return 0;
+    }
     const Score found{neighbour, bad.size()};
     ++stats_.steps_repaired;
     struct Start {
@@ -443,6 +451,7 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
     double shift = 0.0;
     for (const auto& [v, s] : start) shift = std::max(shift, glm::length(x[v] - s.position));
     stats_.max_shift = std::max(stats_.max_shift, shift);
+    std::vector<StarSums>().swap(sums_);
     return fewest.second;
 }
 
@@ -451,8 +460,8 @@ std::size_t FoldRepair::bytes() const {
            (check_.capacity() + neighbour_offsets_.capacity() + neighbours_.capacity()) * sizeof(std::uint32_t) +
            against_at_rest_.capacity() + flags_.capacity() + normals_.capacity() * sizeof(Vec3) + mark_.capacity() +
            (fit_vertices_.capacity() + fit_of_.capacity()) * sizeof(std::uint32_t) +
-           (rest_sums_.capacity() + sums_.capacity()) * sizeof(StarSums) + rest_fits_.capacity() * sizeof(RestFit) +
-           affine_flags_.capacity() + near_.capacity();
+           rest_sums_.capacity() * sizeof(Vec3) + sums_.capacity() * sizeof(StarSums) +
+           rest_fits_.capacity() * sizeof(RestFit) + affine_flags_.capacity() + near_.capacity();
 }
 
 }  // namespace vfsd

@@ -88,17 +88,18 @@ public:
     FoldChecks checks() const { return {triangles_, check_, neighbour_offsets_, neighbours_, against_at_rest_}; }
     std::size_t bytes() const;
 
-    // The affine test's sums of one star and its fit of one triangle at rest.
+    // The affine test's sums of one star, and its fit of one triangle at rest:
+    // the inverse of its regularised second moment (symmetric: xx, xy, xz, yy,
+    // yz, zz) and the regularisation's weight (0: not tested).
     struct StarSums {
         double count = 0.0;
         Vec3 sum{0.0};            // Σ yᵢ, each about the star's vertex
         glm::dmat3 product{0.0};  // Σ yᵢ pᵢᵀ: at rest yᵢ = pᵢ, now yᵢ = qᵢ
-        Vec3 normal{0.0};         // the star's unit normal now
+        Vec3 normal{0.0};         // the star's unit normal
     };
     struct RestFit {
-        glm::dmat3 inverse{1.0};  // of the regularised second moment
-        Vec3 normal{0.0};         // the triangle's unit normal
-        double weight = 0.0;      // the regularisation's
+        double inverse[6] = {1.0, 0.0, 0.0, 1.0, 0.0, 1.0};
+        double weight = 0.0;
     };
 
 private:
@@ -127,7 +128,8 @@ private:
     // of the checked triangles; fit_of_[v] indexes them, or kNone) with their
     // stars' sums, and per check_ entry what its fit keeps from rest.
     std::vector<std::uint32_t> fit_vertices_, fit_of_;
-    std::vector<StarSums> rest_sums_, sums_;  // per fit vertex; sums_ scratch
+    std::vector<Vec3> rest_sums_;             // per fit vertex: its star's Σ pᵢ at rest
+    std::vector<StarSums> sums_;              // per fit vertex, now: held only while a repair runs
     std::vector<RestFit> rest_fits_;          // per check_ entry
     std::vector<std::uint8_t> affine_flags_;  // per check_ entry: the affine test's last result
     std::vector<std::uint8_t> near_;          // per vertex, scratch

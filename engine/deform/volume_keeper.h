@@ -23,6 +23,12 @@ namespace vfsd {
 
 class VolumeKeeper {
 public:
+    // Newton steps after a step the fold repair moved vertices in, each with the
+    // area vectors where the last one left them: a repair can move many vertices
+    // by up to an edge, and one step's second-order error then stays (0.48 % on
+    // a battery scene whose last step was repaired; docs/method.md).
+    static constexpr int kStepsAfterRepair = 3;
+
     // `rest` and `s` in the rings' vertex order. Inactive (restore does nothing)
     // unless every ring is closed: an open or non-manifold surface encloses no volume.
     VolumeKeeper(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings,

@@ -79,8 +79,11 @@ public:
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
         passes_.deformation_step(motion);
         positions_valid_ = false;
-        repair_folds(FoldRepair::affine_test_due(time, time + h));
-        if (keep_volume_) passes_.keep_volume();
+        const bool repaired = repair_folds(FoldRepair::affine_test_due(time, time + h));
+        for (int k = 0; keep_volume_ && k < (repaired ? VolumeKeeper::kStepsAfterRepair : 1); ++k) {
+            if (k > 0) passes_.estimate_normals(At::positions);  // the area vectors where the last step left them
+            passes_.keep_volume();
+        }
         positions_valid_ = false;
     }
 
@@ -133,15 +136,17 @@ private:
     // one the affine test is due after (it runs on the CPU, on the positions read
     // back); the repaired positions go back up, with their rings' area vectors
     // for the keeper.
-    void repair_folds(bool affine_test) {
-        if (!fold_repair_.active() || (!affine_test && passes_.count_folds() == 0)) return;
+    // Returns whether it repaired.
+    bool repair_folds(bool affine_test) {
+        if (!fold_repair_.active() || (!affine_test && passes_.count_folds() == 0)) return false;
         std::vector<Vec3> work = gather_in_order(positions(), order_);
         const std::size_t repaired = fold_repair_.stats().steps_repaired;
         fold_repair_.repair(work, rings_, affine_test);
-        if (fold_repair_.stats().steps_repaired == repaired) return;
+        if (fold_repair_.stats().steps_repaired == repaired) return false;
         for (std::size_t i = 0; i < order_.size(); ++i) positions_[order_[i]] = work[i];
         passes_.set_positions(positions_);
         passes_.estimate_normals(At::positions);
+        return true;
     }
 
     InnerMotion motion_;
