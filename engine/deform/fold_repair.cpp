@@ -289,9 +289,9 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const 
     std::vector<std::uint32_t> both;
     std::size_t k = 0;
     for (std::uint32_t i = 0; i < check_.size(); ++i) {
-        const bool neighbour = k < out.size() && out[k] == i;
-        k += neighbour;
-        if (neighbour || affine_flags_[i]) both.push_back(i);
+        const bool by_neighbours = k < out.size() && out[k] == i;
+        k += by_neighbours;
+        if (by_neighbours || affine_flags_[i]) both.push_back(i);
     }
     return both;
 }

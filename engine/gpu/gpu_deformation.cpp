@@ -135,8 +135,7 @@ private:
     // FoldRepair::repair on the CPU after a step the fold pass found folds in, or
     // one the affine test is due after (it runs on the CPU, on the positions read
     // back); the repaired positions go back up, with their rings' area vectors
-    // for the keeper.
-    // Returns whether it repaired.
+    // for the keeper. Returns whether it repaired.
     bool repair_folds(bool affine_test) {
         if (!fold_repair_.active() || (!affine_test && passes_.count_folds() == 0)) return false;
         std::vector<Vec3> work = gather_in_order(positions(), order_);
