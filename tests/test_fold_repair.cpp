@@ -1,7 +1,8 @@
 // The fold repair (deform/fold_repair.h): it leaves a mesh with no folds as it
 // is, untangles a fan the map turned over, puts a vertex back where the map of
-// its neighbours takes it, moves only blend vertices, and a scene it repairs
-// gives the placed result wherever it is placed.
+// its neighbours takes it, unfolds a needle turned over by its tiny height,
+// moves only blend vertices, and a scene it repairs gives the placed result
+// wherever it is placed.
 #include <catch2/catch.hpp>
 
 #include <random>
@@ -223,5 +224,41 @@ TEST_CASE("a scene the fold repair acts on, turned, moved far away or mirrored, 
             worst = std::max(worst, glm::length(placement.point(result[v]) - placed_result[v]));
         INFO("mirrored: " << mirror);
         CHECK(worst / bounding_box(placed.mesh.positions).diagonal() < 1e-6);
+    }
+}
+
+TEST_CASE("the fold repair unfolds a needle turned over by its tiny height, moving its corner by little",
+          "[deform][repair]") {
+    // A needle: a vertex v of the sphere moved at rest to a thousandth of its
+    // base's length from the base, inside its triangle. Under a random affine
+    // map it is then mirrored across its base: the needle turns over, and v lies
+    // a few thousandths of an edge from where the map takes it, closer than the
+    // ring and patch fits place a vertex.
+    const TriangleMesh sphere = make_builtin_mesh("sphere", 3);
+    const VertexRings rings = build_vertex_rings(sphere);
+    const std::vector<double> s(sphere.positions.size(), 0.5);
+    std::mt19937 random(17);
+    std::uniform_int_distribution<std::size_t> pick(0, sphere.triangles.size() - 1);
+    for (int trial = 0; trial < 20; ++trial) {
+        const Triangle t = sphere.triangles[pick(random)];
+        const std::uint32_t v = t[0], a = t[1], b = t[2];
+        std::vector<Vec3> rest = sphere.positions;
+        const Vec3 base = rest[b] - rest[a], foot = rest[a] + 0.5 * base;
+        const Vec3 inward =
+            glm::normalize(rest[v] - foot - glm::dot(rest[v] - foot, base) / glm::dot(base, base) * base);
+        const double height = 1e-3 * glm::length(base);
+        rest[v] = foot + height * inward;
+        FoldRepair repair(rest, s, rings);
+        const RandomAffine map = random_affine(random);
+        std::vector<Vec3> x = mapped(rest, map);
+        x[v] = map(foot - height * inward);  // across its base
+        INFO("trial " << trial);
+        REQUIRE(count_flipped_triangles(rest, x, sphere.triangles) > 0);
+        const Vec3 image = map(rest[v]);
+        repair.repair(x, rings, true);
+        CHECK(count_flipped_triangles(rest, x, sphere.triangles) == 0);
+        CHECK(reversed_triangle_list(rest, x, sphere.triangles).empty());
+        // Near the map's image still: within half the needle's base.
+        CHECK(glm::length(x[v] - image) < 0.5 * glm::length(map(rest[b]) - map(rest[a])));
     }
 }

@@ -68,18 +68,23 @@ void CpuSteps::step(double time, double h, int step) {
         check_finite(next_, step, time);
     }
     positions_.swap(next_);
-    const std::size_t repaired = fold_repair_.stats().steps_repaired;
-    fold_repair_.repair(positions_, rings_, FoldRepair::affine_test_due(time, time + h));
     // The volume drift is undone after every step, while it is small and smooth
     // (restoring it every few steps folded thin features); it is then part of
-    // the step's map, and a step back undoes it as well. A repair moves vertices
-    // up to an edge: the keeper's ∂V/∂x from the step's midpoint no longer
-    // describes their rings, so it is taken where they are, and again after each
-    // of the keeper's steps.
-    const bool moved = fold_repair_.stats().steps_repaired != repaired && volume_.active();
-    for (int k = 0; !region_.sphere_tool && k < (moved ? VolumeKeeper::kStepsAfterRepair : 1); ++k) {
-        if (moved) ring_area_vectors(positions_, rings_, parts_.blend, area_vectors_);
-        volume_restored_ += std::abs(volume_.restore(positions_, area_vectors_));
+    // the step's map, and a step back undoes it as well.
+    if (!region_.sphere_tool) volume_restored_ += std::abs(volume_.restore(positions_, area_vectors_));
+    // Then the fold repair, which sees what the keeper's move folded too (a
+    // needle's corner pushed across its base). A repair moves vertices up to an
+    // edge: the keeper's ∂V/∂x from the step's midpoint no longer describes
+    // their rings, so it takes them where they are, before each of its Newton
+    // steps; what those fold in turn is repaired again, up to kRepairCycles times.
+    const bool affine_test = FoldRepair::affine_test_due(time, time + h);
+    for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
+        fold_repair_.repair(positions_, rings_, affine_test && cycle == 0, cycle == 0);
+        if (!fold_repair_.acted() || !volume_.active()) break;
+        for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
+            ring_area_vectors(positions_, rings_, parts_.blend, area_vectors_);
+            volume_restored_ += std::abs(volume_.restore(positions_, area_vectors_));
+        }
     }
     input_order_current_ = false;
 }
@@ -111,7 +116,7 @@ bool CpuSteps::build_keepers() {
     if (keepers_built_ || region_.sphere_tool) return false;
     keepers_built_ = true;
     if (options_.keep_volume) volume_ = VolumeKeeper(positions_, s_, rings_, parts_.blend);
-    if (options_.repair_folds) fold_repair_ = FoldRepair(positions_, s_, rings_);
+    if (options_.repair_folds) fold_repair_ = FoldRepair(positions_, s_, rings_, order_);
     return options_.keep_volume || options_.repair_folds;
 }
 

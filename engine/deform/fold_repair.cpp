@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -22,6 +23,10 @@ constexpr int kGrowth = 3;                // rings around the folded triangles' 
 constexpr double kReach = 1.0;            // the most a vertex moves in a step, in its ring's mean edges
 constexpr double kAffineTests = 5.0;      // affine fold tests per unit time
 constexpr double kStarWeight = 1e-3;      // of the star fit's normal term, per squared radius
+constexpr int kSearchPasses = 4;          // passes of the vertex search over the folded triangles' corners, at most
+constexpr double kSearchMargin = 0.05;    // a nearly folded entry: n·Σm below this share of its value at rest
+constexpr double kSearchGain = 0.1;       // the least share of its margins' shortfall a search move takes off
+constexpr int kSearchScales = 4;          // its moves: 1/64, 1/16, 1/4 and 1 of the vertex's shortest edge
 constexpr std::uint32_t kNone = ~std::uint32_t(0);
 
 // The mean length of v's ring edges in x.
@@ -71,8 +76,9 @@ AffineFit fit_affine(const std::vector<Vec3>& from, const std::vector<Vec3>& to)
 
 }  // namespace
 
-FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings)
-    : rest_(rest) {
+FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings,
+                       std::vector<std::uint32_t> input_index)
+    : rest_(rest), input_index_(std::move(input_index)) {
     const auto n = static_cast<std::uint32_t>(rings.vertex_count());
     movable_.resize(n);
     for (std::uint32_t v = 0; v < n; ++v) movable_[v] = s[v] > 0.0 && s[v] < 1.0;
@@ -117,6 +123,7 @@ FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>&
     mark_.assign(n, 0);
     against_at_rest_.assign(check_.size(), 0);
     for (const std::uint32_t t : folded(rest_)) against_at_rest_[t] = 1;
+    rest_facing_ = facings(rest_);
     prepare_affine_test(rings);
 }
 
@@ -260,8 +267,15 @@ void FoldRepair::test_affine(const std::vector<Vec3>& x, const VertexRings& ring
 
 // Whether check_ entry i's image in x faces against the one its fit gives it.
 bool FoldRepair::reversed_by_fit(std::uint32_t i, const std::vector<Vec3>& x) const {
+    if (rest_fits_[i].weight == 0.0) return false;
+    Vec3 fitted, image;
+    fit_images(i, x, fitted, image);
+    return glm::dot(fitted, image) <= 0.0;
+}
+
+// Check_ entry i's area vector in x, and the one its fit gives it.
+void FoldRepair::fit_images(std::uint32_t i, const std::vector<Vec3>& x, Vec3& fitted, Vec3& image) const {
     const RestFit& fit = rest_fits_[i];
-    if (fit.weight == 0.0) return false;
     const Triangle& t = triangles_[check_[i]];
     const std::uint32_t j[3] = {fit_of_[t[0]], fit_of_[t[1]], fit_of_[t[2]]};
     const StarSums* now[3] = {&sums_[j[0]], &sums_[j[1]], &sums_[j[2]]};
@@ -273,8 +287,8 @@ bool FoldRepair::reversed_by_fit(std::uint32_t i, const std::vector<Vec3>& x) co
     const glm::dmat3 a = (joint_moment(t, rest_, x, now, then) +
                           (length > 0.0 ? fit.weight / length : 0.0) * glm::outerProduct(turned, normal)) *
                          symmetric(fit.inverse);
-    const Vec3 image = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
-    return glm::dot(glm::cross(a * u, a * w), image) <= 0.0;
+    image = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
+    fitted = glm::cross(a * u, a * w);
 }
 
 // The entries folded by the neighbour test (`neighbour` of them), and by the
@@ -316,6 +330,25 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x) {
     std::vector<std::uint32_t> out;
     for (std::uint32_t i = 0; i < check_.size(); ++i)
         if (flags_[i]) out.push_back(i);
+    return out;
+}
+
+// Per check_ entry, n·Σm in x: its triangle's unit normal against the sum of
+// its neighbours' (as folded(x) tests it; 0 without neighbours).
+std::vector<float> FoldRepair::facings(const std::vector<Vec3>& x) {
+    normals_.resize(triangles_.size());
+    parallel_for(triangles_.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, triangles_[t]);
+    });
+    std::vector<float> out(check_.size());
+    parallel_for(check_.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+            Vec3 mean(0.0);
+            for (std::uint32_t k = neighbour_offsets_[i]; k < neighbour_offsets_[i + 1]; ++k)
+                mean += normals_[neighbours_[k]];
+            out[i] = float(glm::dot(normals_[check_[i]], mean));
+        }
+    });
     return out;
 }
 
@@ -395,7 +428,177 @@ void FoldRepair::refit_patches(const std::vector<std::uint32_t>& vertices, std::
     }
 }
 
-std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, bool affine_test) {
+namespace {
+
+// A vertex search move's score: the entries it leaves folded by either test
+// (and by the neighbour test alone), how far short of their margins
+// (Σ max(0, m − n·Σm)), the move's size, and the least n·Σm; `against` orders
+// two (−1 better, 0 as good to rounding).
+struct SearchScore {
+    static constexpr double kRounding = 1e-9;
+    std::size_t folded = 0, neighbour = 0;
+    double short_of = 0.0;
+    int scale = 0;
+    double least = std::numeric_limits<double>::max();
+    // Whether a move to this is worth taking from `here`: it folds none more by
+    // the neighbour test, and fewer by either test, or as many but a tenth or
+    // more less short of the margins (a smaller gain is taken by rounding as
+    // readily as by the geometry: it made a scene placed 3e9 of its diagonals
+    // from the origin, whose input carries 3e-7 of noise, differ by 1e-4 D).
+    bool gains_on(const SearchScore& here) const {
+        if (neighbour > here.neighbour) return false;
+        return folded < here.folded || (folded == here.folded && short_of < (1.0 - kSearchGain) * here.short_of);
+    }
+    int against(const SearchScore& o) const {
+        if (folded != o.folded) return folded < o.folded ? -1 : 1;
+        if (std::abs(short_of - o.short_of) > kRounding) return short_of < o.short_of ? -1 : 1;
+        if (scale != o.scale) return scale < o.scale ? -1 : 1;
+        if (std::abs(least - o.least) > kRounding) return least > o.least ? -1 : 1;
+        return 0;
+    }
+};
+
+}  // namespace
+
+// Step 3, what the fits could not untangle: the blend corners of the folded and
+// nearly folded entries (n·Σm below kSearchMargin of its value at rest, or
+// reversed by the affine test after a step it runs after), one at a time in the
+// input's vertex order, try moves along their star's normal and toward and away
+// from each neighbour in the star's plane (a set that turns and mirrors with the
+// mesh) of 1/64, 1/16, 1/4 and 1 of their shortest edge. A vertex moves only
+// to leave fewer entries about it folded by either test (the affine one's sums
+// taken here between the steps it runs after), or as many but a tenth less short
+// of the margins, and never more by the neighbour test; of such moves it takes
+// the one that leaves the fewest, then the least short of the margins, then the
+// smallest, then the widest least margin. A needle's corner has to move by the
+// needle's tiny height, which no ring's or patch's fit resolves.
+std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::uint32_t>& near_folded,
+                                                       std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
+                                                       std::vector<std::pair<std::uint32_t, Vec3>>& undo) {
+    std::vector<std::uint32_t> vertices;
+    for (const std::uint32_t i : near_folded)
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = triangles_[check_[i]][c];
+            if (movable_[v] && !mark_[v]) mark_[v] = 1, vertices.push_back(v);
+        }
+    // The input's order: no turn or mirror image of the mesh changes it (the
+    // order of check_ follows the triangles' winding, the steps' order the rings).
+    std::sort(vertices.begin(), vertices.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return input_index_.empty() ? a < b : input_index_[a] < input_index_[b];
+    });
+    // The entries a move of v can change: by the neighbour test those with v a
+    // corner of their triangle or of a neighbour's (entries_of[v]); by the affine
+    // test those with a corner u whose star holds v (entries_at[u], u = v or in
+    // its ring, which near_ marks).
+    for (const std::uint32_t v : vertices)
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) near_[rings.neighbours[k]] = 1;
+    std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> entries_of, entries_at;
+    const auto add = [](std::vector<std::uint32_t>& list, std::uint32_t i) {
+        if (list.empty() || list.back() != i) list.push_back(i);
+    };
+    for (std::uint32_t i = 0; i < check_.size(); ++i) {
+        const Triangle& t = triangles_[check_[i]];
+        for (int c = 0; c < 3; ++c) {
+            if (mark_[t[c]]) add(entries_of[t[c]], i);
+            if (mark_[t[c]] || near_[t[c]]) add(entries_at[t[c]], i);
+        }
+        for (std::uint32_t k = neighbour_offsets_[i]; k < neighbour_offsets_[i + 1]; ++k)
+            for (int c = 0; c < 3; ++c)
+                if (mark_[triangles_[neighbours_[k]][c]]) add(entries_of[triangles_[neighbours_[k]][c]], i);
+    }
+    for (const std::uint32_t v : vertices) {
+        mark_[v] = 0;
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) near_[rings.neighbours[k]] = 0;
+    }
+    if (!affine_test) {  // the sums of every star the affine test of those entries reads
+        sums_.resize(fit_vertices_.size());
+        std::vector<std::uint32_t> needed;
+        for (const auto& [u, list] : entries_at)
+            for (const std::uint32_t i : list)
+                for (int c = 0; c < 3; ++c) needed.push_back(fit_of_[triangles_[check_[i]][c]]);
+        std::sort(needed.begin(), needed.end());
+        needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+        for (const std::uint32_t j : needed) sums_[j] = star_sums(rest_, x, rings, fit_vertices_[j]);
+    }
+    std::vector<std::uint32_t> moved, entries, stars;
+    std::vector<Vec3> directions, ties;
+    for (const std::uint32_t v : vertices) {
+        entries = entries_of[v];
+        stars.clear();
+        for (std::uint32_t k = rings.begin(v); k <= rings.end(v); ++k) {
+            const std::uint32_t u = k < rings.end(v) ? rings.neighbours[k] : v;
+            if (fit_of_[u] != kNone) stars.push_back(fit_of_[u]);
+            const std::vector<std::uint32_t>& at = entries_at[u];
+            entries.insert(entries.end(), at.begin(), at.end());
+        }
+        std::sort(entries.begin(), entries.end());
+        entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+        const auto score = [&](int scale) {
+            for (const std::uint32_t j : stars) sums_[j] = star_sums(rest_, x, rings, fit_vertices_[j]);
+            SearchScore out;
+            out.scale = scale;
+            for (const std::uint32_t i : entries) {
+                double facing = 1.0;
+                if (!against_at_rest_[i] && neighbour_offsets_[i] < neighbour_offsets_[i + 1]) {
+                    Vec3 mean(0.0);
+                    for (std::uint32_t k = neighbour_offsets_[i]; k < neighbour_offsets_[i + 1]; ++k)
+                        mean += unit_normal(x, triangles_[neighbours_[k]]);
+                    facing = glm::dot(unit_normal(x, triangles_[check_[i]]), mean);
+                    out.least = std::min(out.least, facing);
+                    out.short_of += std::max(0.0, kSearchMargin * double(rest_facing_[i]) - facing);
+                }
+                out.neighbour += facing < 0.0;
+                out.folded += facing < 0.0 || reversed_by_fit(i, x);
+            }
+            return out;
+        };
+        const Vec3 normal = star_normal(x, rings, v);
+        double shortest = std::numeric_limits<double>::max();
+        directions.clear();
+        if (glm::dot(normal, normal) > 0.0) directions = {normal, -normal};
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+            const Vec3 edge = x[rings.neighbours[k]] - x[v];
+            shortest = std::min(shortest, glm::length(edge));
+            const Vec3 along = edge - glm::dot(edge, normal) * normal;
+            if (glm::length(along) > 0.0)
+                directions.push_back(glm::normalize(along)), directions.push_back(-directions.back());
+        }
+        if (!(shortest > 0.0)) continue;
+        const Vec3 from = x[v];
+        const SearchScore here = score(0);
+        SearchScore best = here;
+        ties.assign(1, from);
+        for (int scale = 1; scale <= kSearchScales; ++scale)
+            for (const Vec3& d : directions) {
+                x[v] = from + std::ldexp(shortest, 2 * (scale - kSearchScales)) * d;
+                const SearchScore candidate = score(scale);
+                if (!candidate.gains_on(here)) continue;
+                const int order = candidate.against(best);
+                if (order < 0) best = candidate, ties.assign(1, x[v]);
+                if (order == 0) ties.push_back(x[v]);
+            }
+        // Moves as good as each other to rounding (mirror images in a symmetric
+        // star): their mean if it does as well, else none, so that rounding
+        // does not choose.
+        Vec3 kept = ties.front();
+        if (ties.size() > 1) {
+            Vec3 mean(0.0);
+            for (const Vec3& p : ties) mean += p;
+            x[v] = mean / double(ties.size());
+            const SearchScore at_mean = score(best.scale);
+            const bool as_good = at_mean.folded <= best.folded && at_mean.neighbour <= here.neighbour &&
+                                 at_mean.short_of <= best.short_of + SearchScore::kRounding;
+            kept = as_good ? x[v] : from;
+        }
+        x[v] = kept;
+        score(0);  // the stars' sums where it stays
+        if (kept != from) moved.push_back(v), undo.emplace_back(v, from);
+    }
+    return moved;
+}
+
+std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, bool affine_test, bool new_step) {
+    acted_ = false;
     if (!active()) return 0;
     // A round's folds: the neighbour test's first (the count the fold guard and
     // the battery report), then those of both tests.
@@ -407,7 +610,8 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
         return 0;
     }
     const Score found{neighbour, bad.size()};
-    ++stats_.steps_repaired;
+    acted_ = true;
+    stats_.steps_repaired += new_step;
     struct Start {
         Vec3 position;
         double reach;  // how far the repair may move the vertex: kReach of its ring's mean edge
@@ -448,6 +652,32 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
             x[v] = kept != best.end() ? kept->second : s.position;
         }
     }
+    if (fewest.second > 0) {
+        bad = folded(x, rings, affine_test, nullptr, neighbour);  // the kept round's folds, every test fresh
+        for (int pass = 0; pass < kSearchPasses; ++pass) {
+            // The folded entries and those nearly so (a symmetric scene's mirror
+            // image of a fold, which rounding left unfolded, is treated alike).
+            const std::vector<float> now_facing = facings(x);
+            std::vector<std::uint32_t> near_folded;
+            for (std::uint32_t i = 0; i < check_.size(); ++i)
+                if ((!against_at_rest_[i] && now_facing[i] < kSearchMargin * rest_facing_[i]) ||
+                    (affine_test && affine_flags_[i]))
+                    near_folded.push_back(i);
+            std::vector<std::pair<std::uint32_t, Vec3>> undo;
+            const std::vector<std::uint32_t> moved = search_vertices(near_folded, x, rings, affine_test, undo);
+            if (moved.empty()) break;
+            for (const auto& [v, from] : undo) start.emplace(v, Start{from, 0.0});
+            stats_.vertex_moves += moved.size();
+            bad = folded(x, rings, affine_test, &moved, neighbour);
+            const Score now{neighbour, bad.size()};
+            if (now <= fewest) {
+                fewest = now;
+                continue;
+            }
+            for (const auto& [v, from] : undo) x[v] = from;
+            break;
+        }
+    }
     double shift = 0.0;
     for (const auto& [v, s] : start) shift = std::max(shift, glm::length(x[v] - s.position));
     stats_.max_shift = std::max(stats_.max_shift, shift);
@@ -456,7 +686,8 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
 }
 
 std::size_t FoldRepair::bytes() const {
-    return rest_.capacity() * sizeof(Vec3) + movable_.capacity() + triangles_.capacity() * sizeof(Triangle) +
+    return rest_.capacity() * sizeof(Vec3) + input_index_.capacity() * sizeof(std::uint32_t) + movable_.capacity() +
+           triangles_.capacity() * sizeof(Triangle) +
            (check_.capacity() + neighbour_offsets_.capacity() + neighbours_.capacity()) * sizeof(std::uint32_t) +
            against_at_rest_.capacity() + flags_.capacity() + normals_.capacity() * sizeof(Vec3) + mark_.capacity() +
            (fit_vertices_.capacity() + fit_of_.capacity()) * sizeof(std::uint32_t) +

@@ -21,8 +21,25 @@
 // ring's mean edge in one step. The step keeps the round that left the fewest
 // folds, by the neighbour test first and then by both tests (none if no round
 // did better than the step found), so a repair never leaves more folds than it
-// found. Only blend vertices move: the outer region stays exactly put and the
-// inner region rigid. It acts only after a step that folded something (by a
+// found.
+//
+// 3. what the rounds leave folded: a vertex search. The blend corners of the
+//    folded and nearly folded triangles, one at a time, try small moves (along
+//    the star's normal and toward and away from each neighbour, 1/64 to 1 of
+//    the shortest edge) and take the one that leaves the fewest triangles about
+//    them folded by either test, if fewer than before (or as many, and they
+//    are a tenth less short of a margin), up to four passes. A
+//    needle or a sliver on a crease of the rest surface folds when its corner
+//    crosses its base by its tiny height; no fit of a ring or a patch places a
+//    vertex that closely. The search takes the vertices in the input's order and
+//    settles ties by their mean, so a turned or mirrored scene is repaired alike.
+//
+// The volume keeper's Newton steps follow a repair, and can push a needle's
+// corner across its base again: the step then repairs again, up to
+// kRepairCycles times (deform/cpu_steps.cpp).
+//
+// Only blend vertices move: the outer region stays exactly put and the inner
+// region rigid. It acts only after a step that folded something (by a
 // test that ran after it), and the repaired vertices leave their path lines by the
 // shifts the stats report (docs/method.md, "The fold repair").
 //
@@ -70,7 +87,10 @@ class FoldRepair {
 public:
     FoldRepair() = default;  // inactive: repair() does nothing
     // `rest`, `s` and `rings` in one vertex order; the blend region is 0 < s < 1.
-    FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings);
+    // `input_index`: each vertex's index in the input mesh, the order the vertex
+    // search takes them in (empty: this order).
+    FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings,
+               std::vector<std::uint32_t> input_index = {});
 
     bool active() const { return !check_.empty(); }
     // Whether the affine test runs after the step from time `from` to `to`: when
@@ -81,7 +101,14 @@ public:
     // Repairs the folds of `positions` (the same order as at construction) as
     // described above, by the neighbour test and, when `affine_test`, the affine
     // one; returns the number of triangles still folded after the last round.
-    std::size_t repair(std::vector<Vec3>& positions, const VertexRings& rings, bool affine_test);
+    // `new_step`: false when it repairs the same step again (after the volume
+    // keeper's moves), which stats() then does not count as another step.
+    std::size_t repair(std::vector<Vec3>& positions, const VertexRings& rings, bool affine_test, bool new_step = true);
+    // Whether the last repair() found folds and acted on them.
+    bool acted() const { return acted_; }
+    // Repairs per step at most: after each, the volume keeper's Newton steps can
+    // fold a needle again (deform/cpu_steps.cpp).
+    static constexpr int kRepairCycles = 3;
     // The check entries (as in checks()) the affine test finds folded in `positions`.
     std::vector<std::uint32_t> affine_folded(const std::vector<Vec3>& positions, const VertexRings& rings);
     const FoldRepairStats& stats() const { return stats_; }
@@ -104,23 +131,30 @@ public:
 
 private:
     std::vector<std::uint32_t> folded(const std::vector<Vec3>& x);
+    std::vector<float> facings(const std::vector<Vec3>& x);
     std::vector<std::uint32_t> folded(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
                                       const std::vector<std::uint32_t>* moved, std::size_t& neighbour);
     void prepare_affine_test(const VertexRings& rings);
     void test_affine(const std::vector<Vec3>& x, const VertexRings& rings, const std::vector<std::uint32_t>* moved);
     bool reversed_by_fit(std::uint32_t entry, const std::vector<Vec3>& x) const;
+    void fit_images(std::uint32_t entry, const std::vector<Vec3>& x, Vec3& fitted, Vec3& image) const;
     std::vector<std::uint32_t> vertices_to_move(const std::vector<std::uint32_t>& folded, int rings_out,
                                                 const VertexRings& rings);
     void refit_rings(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x, const VertexRings& rings) const;
+    std::vector<std::uint32_t> search_vertices(const std::vector<std::uint32_t>& near_folded, std::vector<Vec3>& x,
+                                               const VertexRings& rings, bool affine_test,
+                                               std::vector<std::pair<std::uint32_t, Vec3>>& undo);
     void refit_patches(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x, const VertexRings& rings);
 
     std::vector<Vec3> rest_;
+    std::vector<std::uint32_t> input_index_;
     std::vector<std::uint8_t> movable_;  // 1 on the blend region
     // The triangles with a blend corner (check_) and their edge neighbours; the
     // neighbours of check_[i] are triangles_[neighbours_[neighbour_offsets_[i] ..]].
     std::vector<Triangle> triangles_;
     std::vector<std::uint32_t> check_, neighbour_offsets_, neighbours_;
     std::vector<std::uint8_t> against_at_rest_;  // per check_ entry
+    std::vector<float> rest_facing_;             // per check_ entry: facings(rest)
     std::vector<Vec3> normals_;                  // per triangles_ entry, scratch
     std::vector<std::uint8_t> flags_;            // per check_ entry, scratch
     std::vector<std::uint8_t> mark_;             // per vertex, scratch
@@ -134,6 +168,7 @@ private:
     std::vector<std::uint8_t> affine_flags_;  // per check_ entry: the affine test's last result
     std::vector<std::uint8_t> near_;          // per vertex, scratch
     FoldRepairStats stats_;
+    bool acted_ = false;
 };
 
 }  // namespace vfsd

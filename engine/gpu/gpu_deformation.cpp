@@ -78,13 +78,19 @@ public:
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
         passes_.deformation_step(motion);
+        if (keep_volume_) passes_.keep_volume();
         positions_valid_ = false;
-        const bool repaired = repair_folds(FoldRepair::affine_test_due(time, time + h));
-        for (int k = 0; keep_volume_ && k < (repaired ? VolumeKeeper::kStepsAfterRepair : 1); ++k) {
-            if (k > 0) passes_.estimate_normals(At::positions);  // the area vectors where the last step left them
-            passes_.keep_volume();
+        // CpuSteps::step's order: the keeper, then the repair and the keeper's
+        // Newton steps where it left the rings, again while the repair acts.
+        const bool affine_test = FoldRepair::affine_test_due(time, time + h);
+        for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
+            if (!repair_folds(affine_test && cycle == 0, cycle == 0) || !keep_volume_) break;
+            for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
+                if (k > 0) passes_.estimate_normals(At::positions);  // the area vectors where the last step left them
+                passes_.keep_volume();
+            }
+            positions_valid_ = false;
         }
-        positions_valid_ = false;
     }
 
     const std::vector<Vec3>& positions() const override {
@@ -110,7 +116,7 @@ private:
         }
         if (options_.repair_folds) {
             rings_ = reorder_rings(rings, order_);
-            fold_repair_ = FoldRepair(gather_in_order(positions, order_), s_, rings_);
+            fold_repair_ = FoldRepair(gather_in_order(positions, order_), s_, rings_, order_);
             passes_.set_fold_checks(fold_repair_.checks(), order_);
         }
         keep_volume_ = options_.keep_volume && VolumeKeeper(positions, s, rings, blend_vertices(s)).active();
@@ -136,12 +142,11 @@ private:
     // one the affine test is due after (it runs on the CPU, on the positions read
     // back); the repaired positions go back up, with their rings' area vectors
     // for the keeper. Returns whether it repaired.
-    bool repair_folds(bool affine_test) {
+    bool repair_folds(bool affine_test, bool new_step) {
         if (!fold_repair_.active() || (!affine_test && passes_.count_folds() == 0)) return false;
         std::vector<Vec3> work = gather_in_order(positions(), order_);
-        const std::size_t repaired = fold_repair_.stats().steps_repaired;
-        fold_repair_.repair(work, rings_, affine_test);
-        if (fold_repair_.stats().steps_repaired == repaired) return false;
+        fold_repair_.repair(work, rings_, affine_test, new_step);
+        if (!fold_repair_.acted()) return false;
         for (std::size_t i = 0; i < order_.size(); ++i) positions_[order_[i]] = work[i];
         passes_.set_positions(positions_);
         passes_.estimate_normals(At::positions);
