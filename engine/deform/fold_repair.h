@@ -28,11 +28,11 @@
 //    the star's normal and toward and away from each neighbour, 1/64 to 1 of
 //    the shortest edge) and take the one that leaves the fewest triangles about
 //    them folded by either test, if fewer than before (or as many, and they
-//    are a tenth less short of a margin), up to four passes. A
-//    needle or a sliver on a crease of the rest surface folds when its corner
-//    crosses its base by its tiny height; no fit of a ring or a patch places a
-//    vertex that closely. The search takes the vertices in the input's order and
-//    settles ties by their mean, so a turned or mirrored scene is repaired alike.
+//    are a tenth less short of a margin), up to four passes. A needle or a
+//    sliver on a crease of the rest surface folds when its corner crosses its
+//    base by its tiny height; no fit of a ring or a patch places a vertex that
+//    closely. The search takes the vertices in the input's order and settles
+//    ties by their mean, so a turned or mirrored scene is repaired alike.
 //
 // The volume keeper's Newton steps follow a repair, and can push a needle's
 // corner across its base again: the step then repairs again, up to
