@@ -22,11 +22,12 @@
 #include "deform/quality.h"
 #include "gpu/context.h"
 #include "io/png.h"
-#include "render/renderer.h"
 #include "mesh/geometry.h"
+#include "render/renderer.h"
 #include "scene/battery.h"
 #include "scene/framing.h"
 #include "scene/prepared_scene.h"
+#include "scene/scene_run.h"
 
 namespace vfsd::cli {
 namespace {
@@ -41,6 +42,10 @@ struct Outcome {
     std::vector<std::string> warnings;
     std::string error;  // the deformation failed (a non-finite vertex): the scene fails
     std::vector<Vec3> result;
+    TriangleMesh rest;               // the mesh result belongs to: the scene's, or refined where it folded
+    std::vector<double> s;           // on rest
+    int refinements = 0;             // runs started again on a refined mesh (scene/scene_run.h)
+    std::size_t vertices_added = 0;  // by those refinements
 
     bool failed() const {
         return !error.empty() || quality.flipped_triangles > 0 || quality.outer_max_displacement != 0.0 ||
@@ -48,28 +53,28 @@ struct Outcome {
     }
 };
 
-Outcome run_scene(BatteryScene b) {
+Outcome run_battery_scene(BatteryScene b) {
     Outcome o;
     o.battery = std::move(b);
-    const PreparedScene prepared = prepare_scene(o.battery.scene, o.battery.mesh);
+    PreparedScene prepared = prepare_scene(o.battery.scene, o.battery.mesh);
     o.warnings = prepared.warnings;
-    const auto& before = prepared.file.mesh.positions;
-    const auto& triangles = prepared.file.mesh.triangles;
-    Deformation d = prepared.start_deformation();
     try {
-        for (int tenth = 1; tenth <= 10; ++tenth) {  // watch for folds on the way
-            d.advance(prepared.scene.target_time * tenth / 10.0);
-            if (o.first_fold_time < 0.0 && count_flipped_triangles(before, d.positions(), triangles) > 0)
-                o.first_fold_time = d.time();
-        }
+        const SceneRun run = run_scene(prepared);
+        const Deformation& d = *run.deformation;
+        o.first_fold_time = run.watch.first_time;
+        o.refinements = run.refinements;
+        o.vertices_added = prepared.file.mesh.vertex_count() - run.vertices_before;
+        o.result = d.positions();
+        o.ms_per_step = median(d.step_milliseconds());
+        o.repairs = d.fold_repairs();
     } catch (const NumericalError& e) {
         o.error = e.what();
+        o.result = prepared.file.mesh.positions;
     }
-    o.result = d.positions();
-    o.quality = measure_quality(before, o.result, triangles, prepared.region.s);
-    o.ms_per_step = median(d.step_milliseconds());
-    o.repairs = d.fold_repairs();
-    o.repair_shift_over_diagonal = o.repairs.max_shift / bounding_box(before).diagonal();
+    o.rest = prepared.file.mesh;
+    o.s = prepared.region.s;
+    o.quality = measure_quality(o.rest.positions, o.result, o.rest.triangles, prepared.region.s);
+    o.repair_shift_over_diagonal = o.repairs.max_shift / bounding_box(o.rest.positions).diagonal();
     return o;
 }
 
@@ -99,6 +104,8 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"fold_repair_steps", o.repairs.steps_repaired},
             {"fold_repair_vertex_moves", o.repairs.vertex_moves},
             {"fold_repair_max_shift_over_diagonal", o.repair_shift_over_diagonal},
+            {"refinements", o.refinements},
+            {"vertices_added", o.vertices_added},
             {"warnings", o.warnings},
             {"error", o.error},
             {"passed", !o.failed()}};
@@ -124,10 +131,10 @@ void write_worst(const std::filesystem::path& dir, int rank, const Outcome& o) {
         const Camera camera = Camera::framing(
             deformation_frame_points(prepared.file.mesh.positions, prepared.region.s, prepared.motion),
             double(width) / height);
-        const render::Renderer renderer(prepared.file.mesh.triangles, prepared.motion);
+        const render::Renderer renderer(o.rest.triangles, prepared.motion);
         render::RenderOptions options;
         options.current_time = options.target_time = prepared.scene.target_time;
-        const gpu::Texture vertices = render::make_vertex_texture(o.result, prepared.region.s);
+        const gpu::Texture vertices = render::make_vertex_texture(o.result, o.s);
         write_png((dir / (stem + ".png")).string(), width, height,
                   render::render_image(renderer, vertices, camera, width, height, options));
     } catch (const vfsd::Error& e) {
@@ -139,7 +146,8 @@ void write_csv(const std::filesystem::path& path, const std::vector<Outcome>& ou
     std::ofstream out(path);
     out << "name,vertices,region,motion,inner_motion,bend_degrees,twist_degrees,scale,mirrored,flipped_triangles,"
            "reversed_triangles,first_fold_time,volume_error_percent,volume_change_percent,outer_max_displacement,"
-           "inner_rigid_residual,ms_per_step,fold_repair_steps,fold_repair_max_shift_over_diagonal,passed\n";
+           "inner_rigid_residual,ms_per_step,fold_repair_steps,fold_repair_max_shift_over_diagonal,refinements,"
+           "vertices_added,passed\n";
     for (const Outcome& o : outcomes) {
         const nlohmann::json j = outcome_json(o);
         out << j["name"].get<std::string>() << ',' << j["vertices"] << ',' << j["region"].get<std::string>() << ','
@@ -148,7 +156,8 @@ void write_csv(const std::filesystem::path& path, const std::vector<Outcome>& ou
             << ',' << j["reversed_triangles"] << ',' << j["first_fold_time"] << ',' << j["volume_error_percent"] << ','
             << j["volume_change_percent"] << ',' << j["outer_max_displacement"] << ',' << j["inner_rigid_residual"]
             << ',' << j["ms_per_step"] << ',' << j["fold_repair_steps"] << ','
-            << j["fold_repair_max_shift_over_diagonal"] << ',' << j["passed"] << '\n';
+            << j["fold_repair_max_shift_over_diagonal"] << ',' << j["refinements"] << ',' << j["vertices_added"] << ','
+            << j["passed"] << '\n';
     }
 }
 
@@ -195,8 +204,8 @@ int run_battery(const Args& args) {
     const int worst = positive_int(args, "worst", 5), steps = positive_int(args, "steps", 0);
     const double amplitude = args.get_number("amplitude", 1.0);
     const std::string scheme = args.get("scheme", "default");
-    if (scheme != "default" && scheme != "paper" && scheme != "no-repair")
-        throw UsageError("--scheme must be 'default', 'paper' or 'no-repair'");
+    if (scheme != "default" && scheme != "paper" && scheme != "no-repair" && scheme != "no-refinement")
+        throw UsageError("--scheme must be 'default', 'paper', 'no-repair' or 'no-refinement'");
     if (!(amplitude > 0.0 && amplitude <= 1.0)) throw UsageError("--amplitude expects a number in (0, 1]");
     if (args.has("threads")) set_parallel_thread_limit(std::max(1, positive_int(args, "threads", 0)));
     std::vector<std::string> sources =
@@ -216,22 +225,23 @@ int run_battery(const Args& args) {
             b.scene.options.tangent_smoothing = true;
             b.scene.region.profile = RegionSpec::Profile::geodesic;
         }
+        if (scheme == "no-repair" || scheme == "no-refinement") b.scene.options.fold_refinements = 0;
         if (scheme == "no-repair") b.scene.options.repair_folds = false;  // the flow alone
-        outcomes.push_back(run_scene(std::move(b)));
+        outcomes.push_back(run_battery_scene(std::move(b)));
         const Outcome& o = outcomes.back();
         std::printf(
             "%-48s %7zu v  folds %5zu (reversed %5zu)  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step  "
-            "repaired %3zu steps (%.1e D)%s%s\n",
+            "repaired %3zu steps (%.1e D)  refined %d (+%zu v)%s%s\n",
             o.battery.name.c_str(), o.battery.mesh.mesh.vertex_count(), o.quality.flipped_triangles,
             o.quality.reversed_triangles, o.quality.volume_change_percent, o.quality.outer_max_displacement,
             o.quality.inner_rigid_residual, o.ms_per_step, o.repairs.steps_repaired, o.repair_shift_over_diagonal,
-            o.error.empty() ? "" : "  error: ", o.error.c_str());
+            o.refinements, o.vertices_added, o.error.empty() ? "" : "  error: ", o.error.c_str());
         std::fflush(stdout);
     }
 
     nlohmann::json scenes = nlohmann::json::array();
     std::vector<double> volume, ms;
-    std::size_t folded = 0, folds = 0, failed = 0, repaired = 0, reversed_scenes = 0, reversed = 0;
+    std::size_t folded = 0, folds = 0, failed = 0, repaired = 0, reversed_scenes = 0, reversed = 0, refined = 0;
     double outer = 0.0, inner = 0.0, shift = 0.0;
     for (const Outcome& o : outcomes) {
         scenes.push_back(outcome_json(o));
@@ -245,6 +255,7 @@ int run_battery(const Args& args) {
         outer = std::max(outer, o.quality.outer_max_displacement);
         inner = std::max(inner, o.quality.inner_rigid_residual);
         repaired += o.repairs.steps_repaired > 0;
+        refined += o.refinements > 0;
         shift = std::max(shift, o.repair_shift_over_diagonal);
     }
     const nlohmann::json summary = {{"seed", seed},
@@ -263,7 +274,8 @@ int run_battery(const Args& args) {
                                     {"inner_rigid_residual_max", inner},
                                     {"ms_per_step_median", percentile(ms, 0.5)},
                                     {"scenes_repaired", repaired},
-                                    {"fold_repair_max_shift_over_diagonal", shift}};
+                                    {"fold_repair_max_shift_over_diagonal", shift},
+                                    {"scenes_refined", refined}};
     write_file_atomically((dir / "battery.json").string(),
                           nlohmann::json{{"summary", summary}, {"scenes", scenes}}.dump(1) + "\n");
     write_csv(dir / "battery.csv", outcomes);
@@ -281,11 +293,11 @@ int run_battery(const Args& args) {
         "battery seed %d, amplitude %g, scheme %s: %zu scenes, %zu failed, %zu with folds (%zu triangles), %zu with "
         "reversed triangles (%zu); volume error median %.4f%%, "
         "p95 %.4f%%, max %.4f%%; outer displacement max %.3g; inner rigid residual max %.3g; %.3f ms/step "
-        "median; fold repair in %zu scenes (largest move %.2g D)\n",
+        "median; fold repair in %zu scenes (largest move %.2g D); refined in %zu\n",
         seed, amplitude, scheme.c_str(), outcomes.size(), failed, folded, folds, reversed_scenes, reversed,
         summary["volume_error_percent_median"].get<double>(), summary["volume_error_percent_p95"].get<double>(),
         summary["volume_error_percent_max"].get<double>(), outer, inner, summary["ms_per_step_median"].get<double>(),
-        repaired, shift);
+        repaired, shift, refined);
     return failed == 0 ? kExitOk : kExitInput;
 }
 

@@ -25,6 +25,7 @@
 #include "io/mesh_file.h"
 #include "mesh/geometry.h"
 #include "scene/prepared_scene.h"
+#include "scene/scene_run.h"
 
 namespace vfsd::cli {
 namespace {
@@ -38,34 +39,15 @@ void refuse_overwrite(const std::string& out, const std::vector<std::string>& in
     if (!force) throw vfsd::InputError(out + ": already exists (pass --force to replace it)");
 }
 
-// When the first folded triangle was seen: the run is checked every tenth of
-// its steps (and at the end), so first_step is at most that much late.
-struct FoldWatch {
-    int first_step = -1;
-    double first_time = -1.0;
-};
-
-// Integrates to `target` in chunks, showing progress on a terminal and watching
-// for folds.
-FoldWatch run_to(Deformation& deformation, double target, const PreparedScene& p) {
-    const bool tty = isatty(fileno(stderr));
-    const int chunk = std::max(1, deformation.options().steps / 50);
-    const int check_every = std::max(1, deformation.options().steps / 10);
-    FoldWatch watch;
-    int taken = 0, unchecked = 0;
-    while ((taken = deformation.advance(target, chunk)) > 0) {
-        if (tty) std::fprintf(stderr, "\rdeforming: t = %.3f", deformation.time());
-        unchecked += taken;
-        if (watch.first_step < 0 && (unchecked >= check_every || deformation.time() == target)) {
-            unchecked = 0;
-            if (count_flipped_triangles(p.file.mesh.positions, deformation.positions(), p.file.mesh.triangles) > 0) {
-                watch.first_step = static_cast<int>(deformation.step_milliseconds().size());
-                watch.first_time = deformation.time();
-            }
-        }
-    }
-    if (tty) std::fprintf(stderr, "\n");
-    return watch;
+// Shows on a terminal how far the run is, and which run after a refinement.
+RunProgress terminal_progress() {
+    if (!isatty(fileno(stderr))) return {};
+    return [](const Deformation& d, int refinements) {
+        if (refinements == 0)
+            std::fprintf(stderr, "\rdeforming: t = %.3f", d.time());
+        else
+            std::fprintf(stderr, "\rdeforming the refined mesh (%d): t = %.3f", refinements, d.time());
+    };
 }
 
 // The report's "folds" and a warning on stderr when triangles folded.
@@ -86,6 +68,19 @@ nlohmann::json describe_folds(const PreparedScene& p, const std::vector<Vec3>& a
             {"s_min", where.s_min},
             {"s_max", where.s_max},
             {"triangles", std::vector<std::uint32_t>(folded.begin(), folded.begin() + std::min(folded.size(), kListed))}};
+}
+
+// The report's "refinement" and a note on stderr when the mesh was refined.
+nlohmann::json describe_refinement(const PreparedScene& p, const SceneRun& run) {
+    if (run.refinements == 0) return nlohmann::json::object();
+    std::fprintf(
+        stderr,
+        "note: triangles folded, so the mesh was refined where they did and run again from t = 0 (%d "
+        "times): the result has %zu vertices, the input's %zu (welded, in their order) and then the new ones\n",
+        run.refinements, p.file.mesh.vertex_count(), run.vertices_before);
+    return {{"rounds", run.refinements},
+            {"vertices_before", run.vertices_before},
+            {"vertices_added", p.file.mesh.vertex_count() - run.vertices_before}};
 }
 
 nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const DeformationQuality& q,
@@ -125,22 +120,28 @@ void write_field(const std::string& path, const MeshFile& file, const std::vecto
     write_file_atomically(path, out.str());
 }
 
-// Integrates to the scene's target time, writes the mesh and the report.
-int deform_and_write(const Args& args, const PreparedScene& prepared, Deformation& deformation,
+// Integrates to the scene's target time (refining where triangles fold), writes
+// the mesh and the report.
+int deform_and_write(const Args& args, PreparedScene& prepared, const StartDeformation& start,
                      const nlohmann::json& backend_fields) {
-    const auto start = std::chrono::steady_clock::now();
-    const FoldWatch watch = run_to(deformation, prepared.scene.target_time, prepared);
-    const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const auto begin = std::chrono::steady_clock::now();
+    const SceneRun run = run_scene(prepared, start, terminal_progress());
+    if (isatty(fileno(stderr))) std::fprintf(stderr, "\n");
+    const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
+    const Deformation& deformation = *run.deformation;
 
     TriangleMesh result = prepared.file.mesh;
     result.positions = deformation.positions();
     result.scalar = prepared.region.s;
     write_mesh_file(args.get("out"), to_file_layout(prepared.file, result));
+    if (args.has("field-out")) write_field(args.get("field-out"), prepared.file, prepared.region.s);
     const DeformationQuality quality =
         measure_quality(prepared.file.mesh.positions, result.positions, result.triangles, prepared.region.s);
     nlohmann::json report = report_json(prepared, deformation, quality, total_ms);
     report.update(backend_fields);
-    const nlohmann::json folds = describe_folds(prepared, result.positions, watch);
+    const nlohmann::json refinement = describe_refinement(prepared, run);
+    if (!refinement.empty()) report["refinement"] = refinement;
+    const nlohmann::json folds = describe_folds(prepared, result.positions, run.watch);
     if (!folds.empty()) report["folds"] = folds;
     if (args.has("report")) write_file_atomically(args.get("report"), report.dump(2) + "\n");
     char volume[64] = "volume undefined (open or non-manifold surface)";
@@ -174,18 +175,15 @@ int run_deform(const Args& args) {
     for (const char* option : {"out", "report", "field-out"})
         if (args.has(option)) refuse_overwrite(args.get(option), inputs, args.has("force"));
 
-    const PreparedScene prepared = prepare_scene(scene);
+    PreparedScene prepared = prepare_scene(scene);
     for (const std::string& w : prepared.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (args.has("field-out")) write_field(args.get("field-out"), prepared.file, prepared.region.s);
 
-    if (backend == "cpu") {
-        Deformation deformation = prepared.start_deformation();
-        return deform_and_write(args, prepared, deformation, nlohmann::json::object());
-    }
+    if (backend == "cpu") return deform_and_write(args, prepared, {}, nlohmann::json::object());
     const std::unique_ptr<gpu::Context> context = gpu::create_headless_context();  // GpuUnavailable: exit 1
-    Deformation deformation = gpu::make_gpu_deformation(prepared.file.mesh.positions, prepared.rings, prepared.region,
-                                                        prepared.motion, scene.options);
-    return deform_and_write(args, prepared, deformation,
+    const StartDeformation on_gpu = [](const PreparedScene& p) {
+        return gpu::make_gpu_deformation(p.file.mesh.positions, p.rings, p.region, p.motion, p.scene.options);
+    };
+    return deform_and_write(args, prepared, on_gpu,
                             {{"gl_context", context->kind()}, {"gl_renderer", context->renderer()}});
 }
 

@@ -31,7 +31,11 @@ const std::vector<Command>& commands() {
          "--backend gpu runs the scene's steps as fragment passes in a headless GL\n"
          "context (OSMesa), the CPU's scheme pass by pass (docs/gpu.md); when no\n"
          "context can be made vfsd exits 1 and says why. --threads limits the\n"
-         "CPU backend's threads (default: all). When triangles fold, stderr says how\n"
+         "CPU backend's threads (default: all). When triangles fold, the mesh is refined\n"
+         "around them at rest and the scene runs again from t = 0 (\"fold_refinement\"\n"
+         "times, default 3): the result then has the (welded) input's vertices and new\n"
+         "ones after them, and stderr and the report's \"refinement\" say so. When\n"
+         "triangles still fold, stderr says how\n"
          "many, after which step and where; the report's \"folds\" lists them.\n"
          "'vfsd scene-keys' lists the scene file's keys and their defaults.\n",
          run_deform},
@@ -78,7 +82,7 @@ const std::vector<Command>& commands() {
         {"battery", "deform generated scenes nobody tuned and measure folds, volume, rigidity",
          "usage: vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR | --mesh SPEC] [--coarse]\n"
          "                   [--worst K] [--steps N] [--threads N] [--only INDEX] [--amplitude A]\n"
-         "                   [--scheme default|paper|no-repair]\n"
+         "                   [--scheme default|paper|no-repair|no-refinement]\n"
          "\n"
          "Generates K scenes (default 30) from seed N (default 1): the built-in meshes at a\n"
          "coarse and a fine resolution (--coarse: coarse only) and every mesh file in\n"
@@ -91,11 +95,13 @@ const std::vector<Command>& commands() {
          "steps; --scheme paper runs secs. 5 and 6 as printed: \"stream_gauge\": \"paper\",\n"
          "\"smoothing\": \"tangent\", \"keep_volume\": false, \"fold_repair\": false and the\n"
          "regions' \"profile\": \"geodesic\"; --scheme no-repair the default with \"fold_repair\":\n"
-         "false, the flow alone); per scene: flipped\n"
+         "false and \"fold_refinement\": 0, the flow alone; --scheme no-refinement the default\n"
+         "with \"fold_refinement\": 0); per scene: flipped\n"
          "triangles and when the first appeared, reversed triangles (a second fold\n"
          "measure, exact for affine maps), volume error and change, outer\n"
          "displacement, inner rigid residual, ms/step, the vertices the fold repair placed\n"
-         "again and how far. Writes DIR/battery.json,\n"
+         "again and how far, the runs on a mesh refined where it folded and the vertices\n"
+         "they added. Writes DIR/battery.json,\n"
          "DIR/battery.csv and, for the K worst (default 5), DIR/worst-R-NAME.{json,ply,png}:\n"
          "'vfsd deform' on the .json reproduces the scene. --only INDEX runs scene INDEX alone.\n"
          "Exits 1 when a scene folds, moves its outer region or bends its inner region.\n",

@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <set>
@@ -14,7 +15,10 @@
 #include "deform/quality.h"
 #include "io/mesh_file.h"
 #include "mesh/geometry.h"
+#include "scene/battery.h"
+#include "scene/prepared_scene.h"
 #include "scene/scene.h"
+#include "scene/scene_run.h"
 #include "test_io_support.h"
 
 using namespace vfsd;
@@ -96,12 +100,14 @@ TEST_CASE("vfsd deform says when triangles fold, how many, from when and where",
                   {"smoothing", "tangent"},
                   {"keep_volume", false},
                   {"fold_repair", false},
+                  {"fold_refinement", 0},
                   {"smoothing_steps", 0},
                   {"steps", 40}});
     write_bytes(dir.file("twist.json"), scene.dump());
     REQUIRE(deform(dir, "'" + dir.file("twist.json") + "' --out '" + dir.file("out.ply") + "' --report '" +
                             dir.file("r.json") + "'") == 0);
     const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir.file("r.json")));
+    const MeshFile box = load_mesh_file("builtin:box");
     REQUIRE(report.contains("folds"));
     const nlohmann::json& folds = report["folds"];
     CHECK(folds["count"] == report["flipped_triangles"]);
@@ -112,11 +118,23 @@ TEST_CASE("vfsd deform says when triangles fold, how many, from when and where",
     CHECK(folds["s_min"].get<double>() >= 0.0);
     CHECK(folds["s_min"].get<double>() <= folds["s_max"].get<double>());
     CHECK(folds["s_max"].get<double>() <= 1.0);
-    const MeshFile box = load_mesh_file("builtin:box"), written = read_mesh_file(dir.file("out.ply"));
+    const MeshFile written = read_mesh_file(dir.file("out.ply"));
     CHECK(folds["triangles"].get<std::vector<std::uint32_t>>() ==
           flipped_triangle_list(box.mesh.positions, written.mesh.positions, box.mesh.triangles));
     CHECK(test::read_bytes(dir.file("stderr.txt")).find("triangles folded (first seen after step") != std::string::npos);
     CHECK(report["fold_repair_steps"] == 0);
+
+    // Refined where it folds, sec. 5 as printed folds more (its ∇r ripples grow
+    // faster on a finer mesh): the first run is kept, mesh and folds alike.
+    scene["fold_refinement"] = 3;
+    write_bytes(dir.file("refined.json"), scene.dump());
+    REQUIRE(deform(dir, "'" + dir.file("refined.json") + "' --out '" + dir.file("refined.ply") + "' --report '" +
+                            dir.file("refined-report.json") + "'") == 0);
+    const nlohmann::json kept = nlohmann::json::parse(std::ifstream(dir.file("refined-report.json")));
+    CHECK_FALSE(kept.contains("refinement"));
+    CHECK(kept["vertices"] == box.mesh.vertex_count());
+    CHECK(kept["flipped_triangles"] == report["flipped_triangles"]);
+    scene["fold_refinement"] = 0;
 
     // The same scene with the fold repair: nothing folds, and the report says how
     // often and how far the repair moved vertices.
@@ -135,6 +153,63 @@ TEST_CASE("vfsd deform says when triangles fold, how many, from when and where",
                             dir.file("cube.json") + "'") == 0);
     CHECK_FALSE(nlohmann::json::parse(std::ifstream(dir.file("cube.json"))).contains("folds"));
     CHECK(test::read_bytes(dir.file("stderr.txt")).find("folded") == std::string::npos);
+}
+
+TEST_CASE("vfsd deform refines the mesh where triangles fold and runs again, and says so", "[deform][cli]") {
+    // The flow alone (no fold repair) on the battery's coarse scenes at full
+    // amplitude: the first scene that refines in the engine (scene/scene_run.h),
+    // written out with its placed mesh in double precision.
+    const std::vector<std::string> sources = battery_mesh_sources({}, false);
+    ScratchDir dir;
+    for (int index = 0; index < 30; ++index) {
+        BatteryScene b = generate_battery_scene(1, index, sources);
+        b.scene.options.repair_folds = false;
+        PreparedScene prepared = prepare_scene(b.scene, b.mesh);
+        const SceneRun run = run_scene(prepared);
+        if (run.refinements == 0) continue;
+        INFO(b.name << ", refined " << run.refinements << " times");
+        WriteOptions exact;
+        exact.double_positions = true;
+        write_mesh_file(dir.file("mesh.ply"), b.mesh.mesh, exact);
+        Scene scene = b.scene;
+        scene.mesh = "mesh.ply";
+        write_bytes(dir.file("scene.json"), scene_to_json(scene).dump());
+        REQUIRE(deform(dir, "'" + dir.file("scene.json") + "' --out '" + dir.file("out.ply") + "' --report '" +
+                                dir.file("r.json") + "' --field-out '" + dir.file("s.txt") + "'") == 0);
+        const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir.file("r.json")));
+        REQUIRE(report.contains("refinement"));
+        const std::size_t vertices = prepared.file.mesh.vertex_count();
+        CHECK(report["refinement"]["rounds"] == run.refinements);
+        CHECK(report["refinement"]["vertices_before"] == b.mesh.mesh.vertex_count());
+        CHECK(report["refinement"]["vertices_added"] == vertices - b.mesh.mesh.vertex_count());
+        CHECK(report["vertices"] == vertices);
+        CHECK(report["flipped_triangles"] == count_flipped_triangles(prepared.file.mesh.positions,
+                                                                     run.deformation->positions(),
+                                                                     prepared.file.mesh.triangles));
+        // The written mesh is the refined one, deformed as in the engine; s has a
+        // value for each of its vertices.
+        const MeshFile written = read_mesh_file(dir.file("out.ply"));
+        REQUIRE(written.mesh.vertex_count() == vertices);
+        CHECK(written.mesh.triangles == prepared.file.mesh.triangles);
+        double worst = 0.0;
+        for (std::size_t v = 0; v < vertices; ++v)
+            worst = std::max(worst, glm::length(written.mesh.positions[v] - run.deformation->positions()[v]));
+        CHECK(worst / bounding_box(b.mesh.mesh.positions).diagonal() < 1e-6);  // float PLY
+        const std::string field = test::read_bytes(dir.file("s.txt"));
+        CHECK(std::size_t(std::count(field.begin(), field.end(), '\n')) == vertices);
+        CHECK(test::read_bytes(dir.file("stderr.txt")).find("the mesh was refined") != std::string::npos);
+
+        // "fold_refinement": 0 runs the input mesh once, folds and all.
+        scene.options.fold_refinements = 0;
+        write_bytes(dir.file("once.json"), scene_to_json(scene).dump());
+        REQUIRE(deform(dir, "'" + dir.file("once.json") + "' --out '" + dir.file("once.ply") + "' --report '" +
+                                dir.file("once-report.json") + "'") == 0);
+        const nlohmann::json once = nlohmann::json::parse(std::ifstream(dir.file("once-report.json")));
+        CHECK_FALSE(once.contains("refinement"));
+        CHECK(once["vertices"] == b.mesh.mesh.vertex_count());
+        return;
+    }
+    FAIL("no scene of the battery refined");
 }
 
 TEST_CASE("vfsd deform refuses bad scenes with one line and exit code 1", "[deform][cli]") {

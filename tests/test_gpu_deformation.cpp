@@ -18,6 +18,7 @@
 #include "mesh/geometry.h"
 #include "scene/battery.h"
 #include "scene/prepared_scene.h"
+#include "scene/scene_run.h"
 #include "test_gpu_support.h"
 
 using namespace vfsd;
@@ -158,4 +159,36 @@ TEST_CASE("GPU deformation of battery scenes agrees with the CPU", "[battery][gp
     // borderline triangle the other way on another CPU's llvmpipe, so a few may differ.
     CHECK(std::max(gpu_repairs, cpu_repairs) - std::min(gpu_repairs, cpu_repairs) <=
           std::max<std::size_t>(2, cpu_repairs / 20));
+}
+
+TEST_CASE("GPU runs refine a scene where it folds as the CPU's do", "[battery][gpu]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    // The flow alone (no fold repair) on the CI battery at full amplitude folds
+    // often enough to refine (scene/scene_run.h); the first two scenes that refine
+    // on the CPU refine the same triangles on the GPU and end within 1e-4 D.
+    const std::vector<std::string> sources = battery_mesh_sources({}, false);
+    const StartDeformation on_gpu = [](const PreparedScene& p) {
+        return gpu::make_gpu_deformation(p.file.mesh.positions, p.rings, p.region, p.motion, p.scene.options);
+    };
+    int checked = 0;
+    for (int index = 0; index < 30 && checked < 2; ++index) {
+        BatteryScene b = generate_battery_scene(1, index, sources);
+        b.scene.options.repair_folds = false;
+        PreparedScene cpu = prepare_scene(b.scene, b.mesh), gpu = cpu;
+        const SceneRun cpu_run = run_scene(cpu);
+        if (cpu_run.refinements == 0) continue;
+        ++checked;
+        const SceneRun gpu_run = run_scene(gpu, on_gpu);
+        INFO(b.name << ": refined " << cpu_run.refinements << " times on the CPU, " << gpu_run.refinements
+                    << " on the GPU");
+        CHECK(std::string(gpu_run.deformation->backend_name()) == "gpu");
+        CHECK(gpu_run.refinements == cpu_run.refinements);
+        REQUIRE(gpu.file.mesh.triangles == cpu.file.mesh.triangles);
+        const double error = test::max_distance(gpu_run.deformation->positions(), cpu_run.deformation->positions()) /
+                             bounding_box(cpu.file.mesh.positions).diagonal();
+        std::printf("gpu-vs-cpu refined %-40s refined %d times, %zu vertices, max error %.2e of the diagonal\n",
+                    b.name.c_str(), cpu_run.refinements, cpu.file.mesh.vertex_count(), error);
+        CHECK(error < 1e-4);
+    }
+    CHECK(checked == 2);
 }

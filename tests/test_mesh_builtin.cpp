@@ -1,6 +1,10 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
+#include <set>
+#include <tuple>
 
 #include "base/error.h"
 #include "mesh/builtin_meshes.h"
@@ -130,4 +134,73 @@ TEST_CASE("midpoint subdivision keeps the surface, closed and manifold, with V +
     const TriangleMesh level2 = make_builtin_mesh("sphere", 2);
     REQUIRE(sphere.vertex_count() == level2.vertex_count());
     for (std::size_t v = 0; v < sphere.vertex_count(); ++v) CHECK(glm::length(sphere.positions[v] - level2.positions[v]) < 1e-15);
+}
+
+TEST_CASE("refining some triangles keeps the mesh closed, conforming and in place, whatever the winding",
+          "[mesh][refine]") {
+    std::mt19937 random(14);
+    for (const char* name : {"box", "cylinder", "sphere"}) {
+        TriangleMesh coarse = make_builtin_mesh(name, name == std::string("sphere") ? 2 : 6);
+        coarse.scalar.resize(coarse.vertex_count());
+        for (double& s : coarse.scalar) s = std::uniform_real_distribution<double>(0.0, 1.0)(random);
+        for (int trial = 0; trial < 5; ++trial) {
+            std::vector<std::uint32_t> asked;
+            for (std::uint32_t t = 0; t < coarse.triangle_count(); ++t)
+                if (random() % 10 == 0) asked.push_back(t);
+            INFO(name << ", " << asked.size() << " triangles asked");
+            const RefinedMesh refined = refine_triangles(coarse, asked);
+            const TriangleMesh& fine = refined.mesh;
+            require_clean_closed(fine);
+            CHECK(signed_volume(fine.positions, fine.triangles) ==
+                  Approx(signed_volume(coarse.positions, coarse.triangles)).epsilon(1e-12));
+            const std::size_t old = coarse.vertex_count();
+            REQUIRE(fine.vertex_count() == old + refined.parents.size());
+            for (std::size_t v = 0; v < old; ++v) CHECK(fine.positions[v] == coarse.positions[v]);
+            // Each new vertex is its edge's midpoint, with the mean of its scalar.
+            std::set<std::pair<std::uint32_t, std::uint32_t>> split;
+            for (std::size_t k = 0; k < refined.parents.size(); ++k) {
+                const auto [a, b] = refined.parents[k];
+                CHECK(a < b);
+                CHECK(fine.positions[old + k] == 0.5 * (coarse.positions[a] + coarse.positions[b]));
+                CHECK(fine.scalar[old + k] == 0.5 * (coarse.scalar[a] + coarse.scalar[b]));
+                split.insert({a, b});
+            }
+            const auto is_split = [&](std::uint32_t a, std::uint32_t b) {
+                return split.count({std::min(a, b), std::max(a, b)}) > 0;
+            };
+            // Every edge of an asked triangle is split; no triangle has exactly two
+            // split edges; each triangle becomes 1, 2 or 4.
+            for (std::uint32_t t : asked)
+                for (int k = 0; k < 3; ++k) CHECK(is_split(coarse.triangles[t][k], coarse.triangles[t][(k + 1) % 3]));
+            std::size_t expected = 0;
+            for (const Triangle& t : coarse.triangles) {
+                const int marked = is_split(t[0], t[1]) + is_split(t[1], t[2]) + is_split(t[2], t[0]);
+                CHECK(marked != 2);
+                expected += marked == 0 ? 1 : marked == 1 ? 2 : 4;
+            }
+            CHECK(fine.triangle_count() == expected);
+
+            // The mirrored winding refines the same way: same vertices, same numbering.
+            TriangleMesh flipped = coarse;
+            for (Triangle& t : flipped.triangles) std::swap(t.y, t.z);
+            const RefinedMesh mirror = refine_triangles(flipped, asked);
+            CHECK(mirror.parents == refined.parents);
+            CHECK(mirror.mesh.positions == fine.positions);
+            CHECK(mirror.mesh.triangle_count() == fine.triangle_count());
+        }
+        // Asking for every triangle is one level of midpoint subdivision, numbered by edge.
+        std::vector<std::uint32_t> all(coarse.triangle_count());
+        for (std::uint32_t t = 0; t < all.size(); ++t) all[t] = t;
+        const TriangleMesh everywhere = refine_triangles(coarse, all).mesh;
+        const TriangleMesh subdivided = subdivide_midpoints(coarse);
+        REQUIRE(everywhere.vertex_count() == subdivided.vertex_count());
+        CHECK(everywhere.triangle_count() == subdivided.triangle_count());
+        std::vector<Vec3> a = everywhere.positions, b = subdivided.positions;
+        const auto less = [](const Vec3& p, const Vec3& q) {
+            return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z);
+        };
+        std::sort(a.begin(), a.end(), less);
+        std::sort(b.begin(), b.end(), less);
+        CHECK(a == b);
+    }
 }

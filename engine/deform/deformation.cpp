@@ -12,10 +12,13 @@ namespace vfsd {
 void check_options(const DeformationOptions& options) {
     if (options.steps < 1) throw InputError("steps must be at least 1");
     if (options.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
+    if (options.fold_refinements < 0 || options.fold_refinements > kMaxFoldRefinements)
+        throw InputError("fold_refinement must be 0 to " + std::to_string(kMaxFoldRefinements));
 }
 
 DeformationOptions paper_steps(DeformationOptions options) {
     options.fit_stream_gauge = options.keep_volume = options.repair_folds = false;
+    options.fold_refinements = 0;
     return options;
 }
 

@@ -24,6 +24,9 @@ namespace gpu {
 class Texture;
 }
 
+// Each round at most quadruples the triangles it refines.
+constexpr int kMaxFoldRefinements = 8;
+
 struct DeformationOptions {
     int steps = 250;                // RK4 steps from t = 0 to t = 1 (sec. 7.1: 200–300)
     int smoothing_steps = 10;       // Laplacian steps on ∇r per integration step
@@ -39,13 +42,17 @@ struct DeformationOptions {
     bool tangent_smoothing = false;  // keep ∇r tangent while smoothing it (sec. 5) instead of smoothing it in space
     bool keep_volume = true;         // undo the scheme's volume drift after every step (deform/volume_keeper.h)
     bool repair_folds = true;        // place a folded triangle's blend vertices again (deform/fold_repair.h)
+    // A whole scene's run (scene/scene_run.h), not a Deformation, reads this: how
+    // many times to refine the mesh at rest where triangles folded anyway and run
+    // again from t = 0; 0: never.
+    int fold_refinements = 3;
 };
 
 // Throws InputError when an option is out of range.
 void check_options(const DeformationOptions& options);
 
 // The options with the steps beyond sec. 5 turned off (the stream gauge fit, the
-// volume keeper and the fold repair): with tangent smoothing and the geodesic
+// volume keeper, the fold repair and the refinement): with tangent smoothing and the geodesic
 // profile, the scheme as printed.
 DeformationOptions paper_steps(DeformationOptions options);
 

@@ -180,6 +180,8 @@ void parse_options(const Reader& in, const json& j, Scene& scene) {
         if (!j["fold_repair"].is_boolean()) in.fail("fold_repair", "expected true or false");
         scene.options.repair_folds = j["fold_repair"].get<bool>();
     }
+    if (j.contains("fold_refinement"))
+        scene.options.fold_refinements = in.integer(j["fold_refinement"], "fold_refinement", 0, kMaxFoldRefinements);
     if (j.contains("target_time")) {
         scene.target_time = in.number(j["target_time"], "target_time");
         if (scene.target_time < 0.0 || scene.target_time > 1.0) in.fail("target_time", "expected a time in [0, 1]");
@@ -298,6 +300,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
     j["smoothing"] = scene.options.tangent_smoothing ? "tangent" : "space";
     j["keep_volume"] = scene.options.keep_volume;
     j["fold_repair"] = scene.options.repair_folds;
+    j["fold_refinement"] = scene.options.fold_refinements;
     j["target_time"] = scene.target_time;
     j["up"] = std::string(1, scene.up_axis);
     return j;
@@ -318,7 +321,10 @@ const std::vector<SceneKey>& scene_keys() {
         {"stream_gauge", "\"fit\" (a gauge fitted to the blend region every step) or \"paper\"", "\"fit\""},
         {"smoothing", "\"space\" (the gradient smoothed as a vector) or \"tangent\" (as sec. 5)", "\"space\""},
         {"keep_volume", "true: the blend region's volume drift undone every step; false: as sec. 5", "true"},
-        {"fold_repair", "true: a folded triangle's blend vertices placed again after the step; false: as sec. 5", "true"},
+        {"fold_repair", "true: a folded triangle's blend vertices placed again after the step; false: as sec. 5",
+         "true"},
+        {"fold_refinement",
+         "how many times vfsd deform refines the mesh where triangles folded anyway and runs again; 0: never", "3"},
         {"steps", "RK4 steps from t = 0 to 1", "250"},
         {"smoothing_steps", "Laplacian smoothing steps on the gradient per integration step", "10"},
         {"target_time", "where vfsd deform stops, in [0, 1]", "1"},

@@ -18,7 +18,8 @@
 //   "stream_gauge": "fit" | "paper",                  // beyond the paper (docs/method.md): defaults
 //   "smoothing": "space" | "tangent",                 //   fit, space, true, true; "paper",
 //   "keep_volume": true | false,                      //   "tangent", false, false is sec. 5
-//   "fold_repair": true | false }                     //   as printed
+//   "fold_repair": true | false,                      //   as printed
+//   "fold_refinement": 3 }                            // runs again refined where folded (scene/scene_run.h)
 
 #include <string>
 #include <vector>

@@ -1,0 +1,92 @@
+#include "scene/scene_run.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "deform/quality.h"
+#include "mesh/subdivision.h"
+
+namespace vfsd {
+namespace {
+
+constexpr int kChecks = 10;            // the folds are counted at every tenth of the way
+constexpr std::size_t kMaxGrowth = 2;  // a refined mesh has at most twice the input's vertices
+
+// One run from t = 0 to the target time, its folds watched.
+SceneRun run_once(const PreparedScene& p, const StartDeformation& start, const RunProgress& progress, int refinements) {
+    SceneRun run;
+    run.refinements = refinements;
+    run.deformation.emplace(start ? start(p) : p.start_deformation());
+    Deformation& d = *run.deformation;
+    const int chunk = std::max(1, d.options().steps / 50);
+    const double target = p.scene.target_time;
+    for (int check = 1; check <= kChecks; ++check) {
+        const double time = check == kChecks ? target : target * check / kChecks;
+        while (d.advance(time, chunk) > 0)
+            if (progress) progress(d, refinements);
+        const std::vector<std::uint32_t> folded =
+            flipped_triangle_list(p.file.mesh.positions, d.positions(), p.file.mesh.triangles);
+        if (!folded.empty() && run.watch.first_step < 0) {
+            run.watch.first_step = static_cast<int>(d.step_milliseconds().size());
+            run.watch.first_time = d.time();
+        }
+        std::vector<std::uint32_t> all;
+        std::set_union(run.watch.folded.begin(), run.watch.folded.end(), folded.begin(), folded.end(),
+                       std::back_inserter(all));
+        run.watch.folded = std::move(all);
+    }
+    return run;
+}
+
+// The triangles that share a corner with one of `triangles` (they included): the
+// folded ones and the ring around them, where the turn that folded them is as
+// large.
+std::vector<std::uint32_t> triangles_around(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles) {
+    std::vector<char> corner(mesh.vertex_count(), 0);
+    for (std::uint32_t t : triangles)
+        for (int k = 0; k < 3; ++k) corner[mesh.triangles[t][k]] = 1;
+    std::vector<std::uint32_t> around;
+    for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+        const Triangle& c = mesh.triangles[t];
+        if (corner[c[0]] || corner[c[1]] || corner[c[2]]) around.push_back(t);
+    }
+    return around;
+}
+
+}  // namespace
+
+SceneRun run_scene(PreparedScene& prepared, const StartDeformation& start, const RunProgress& progress) {
+    const std::size_t vertices_before = prepared.file.mesh.vertex_count();
+    SceneRun best = run_once(prepared, start, progress, 0);
+    for (int round = 1; round <= prepared.scene.options.fold_refinements && !best.watch.folded.empty(); ++round) {
+        PreparedScene finer = prepared;
+        refine_at_rest(finer, triangles_around(finer.file.mesh, best.watch.folded));
+        if (finer.file.mesh.vertex_count() > kMaxGrowth * vertices_before) break;
+        std::optional<SceneRun> tried;
+        try {
+            tried.emplace(run_once(finer, start, progress, round));
+        } catch (const NumericalError&) {
+            break;  // keep the run that finished
+        }
+        SceneRun& run = *tried;
+        if (run.watch.folded.size() > best.watch.folded.size()) break;  // finer folded more: keep the last
+        best = std::move(run);
+        prepared = std::move(finer);
+    }
+    best.vertices_before = vertices_before;
+    return best;
+}
+
+void refine_at_rest(PreparedScene& prepared, const std::vector<std::uint32_t>& triangles) {
+    RefinedMesh refined = refine_triangles(prepared.file.mesh, triangles);
+    std::vector<double>& s = prepared.region.s;
+    for (const auto& [a, b] : refined.parents) s.push_back(0.5 * (s[a] + s[b]));
+    MeshFile& file = prepared.file;
+    file.mesh = std::move(refined.mesh);
+    file.file_to_mesh.resize(file.mesh.vertex_count());
+    std::iota(file.file_to_mesh.begin(), file.file_to_mesh.end(), 0u);
+    file.file_triangles = file.mesh.triangles;
+    prepared.rings = build_vertex_rings(file.mesh);
+}
+
+}  // namespace vfsd
