@@ -8,7 +8,9 @@
 //
 // The session is always expressible as a scene file: current_scene() is what
 // save_scene() writes, and `vfsd deform` of that file computes the same
-// deformation (the same prepare_scene, the same steps).
+// deformation (the same prepare_scene, the same steps), except where triangles
+// fold: `vfsd deform` then refines the mesh there and runs again
+// (scene/scene_run.h), which the session does not yet.
 
 #include <cstdint>
 #include <functional>
