@@ -1,18 +1,25 @@
-// vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N]
+// vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--busy]
 // (vfsd bench --picking: command_bench_picking.cpp)
 //
 // Reproduces the paper's timing table (sec. 7.1) with our models: per mesh,
 // a bending deformation of 250 RK4 steps with 10 smoothing steps, timed per
 // step on one thread and on all, plus the GPU backend when a context can be
 // made; volume error, flipped triangles and memory per vertex beside it.
+// --busy runs a competing program the whole time: a child process spinning on
+// one core, as a desktop user's other work would.
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
+#include <csignal>
 
 #include "base/error.h"
 #include "base/parallel.h"
@@ -26,6 +33,26 @@
 
 namespace vfsd::cli {
 namespace {
+
+// A child process that keeps one core busy until this goes out of scope.
+class BusyProcess {
+public:
+    BusyProcess() : pid_(fork()) {
+        if (pid_ < 0) throw IoError("bench --busy: could not start the busy process");
+        if (pid_ == 0)
+            for (volatile unsigned long spin = 0;; spin = spin + 1) {
+            }
+    }
+    ~BusyProcess() {
+        kill(pid_, SIGKILL);
+        waitpid(pid_, nullptr, 0);
+    }
+    BusyProcess(const BusyProcess&) = delete;
+    BusyProcess& operator=(const BusyProcess&) = delete;
+
+private:
+    pid_t pid_;
+};
 
 struct Model {
     std::string name;  // shown in the table
@@ -189,7 +216,7 @@ double median(std::vector<double> v) {
 
 int run_bench(const Args& args) {
     if (args.has("picking")) return run_picking_bench(args);
-    args.expect({"quick", "only", "markdown", "data", "steps", "repeat", "no-gpu"}, 0, 0);
+    args.expect({"quick", "only", "markdown", "data", "steps", "repeat", "no-gpu", "busy"}, 0, 0);
     const bool quick = args.has("quick");
     const int steps = static_cast<int>(args.get_number("steps", quick ? 10 : 250));
     const int repeat = static_cast<int>(args.get_number("repeat", quick ? 1 : 3));
@@ -203,6 +230,12 @@ int run_bench(const Args& args) {
         with_gpu = false;
     }
     if (context) std::printf("GPU backend: %s (%s)\n", context->renderer().c_str(), context->kind().c_str());
+    std::optional<BusyProcess> busy;
+    if (args.has("busy")) {
+        busy.emplace();
+        std::printf("a busy process runs beside the bench (on %u hardware threads)\n",
+                    std::thread::hardware_concurrency());
+    }
     std::vector<Result> results;
     const std::string only = args.has("only") ? args.get("only") : "";
     for (const Model& m : models(quick)) {

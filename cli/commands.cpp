@@ -64,7 +64,7 @@ const std::vector<Command>& commands() {
          run_render},
         {"bench", "time the deformation per step on the paper's models and larger meshes",
          "usage: vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] "
-         "[--no-gpu]\n"
+         "[--no-gpu] [--busy]\n"
          "       vfsd bench --picking [--mesh SPEC] [--rays N]\n"
          "\n"
          "Per mesh: a 45-degree bend of 250 RK4 steps (10 smoothing steps each), ms per step\n"
@@ -72,7 +72,9 @@ const std::vector<Command>& commands() {
          "thread and on all, the GPU backend when a headless context can be made, volume\n"
          "error, flipped triangles and the deformation state's bytes per vertex. --quick\n"
          "runs two small meshes for a few steps (CI). --only runs the models whose name\n"
-         "contains TEXT. scripts/bench runs the full set and writes docs/benchmarks.md.\n"
+         "contains TEXT. --busy keeps a child process spinning on one core the whole time\n"
+         "(another program at work: one thread against all, then). scripts/bench runs the\n"
+         "full set and writes docs/benchmarks.md.\n"
          "\n"
          "vfsd bench --picking [--mesh SPEC] [--rays N] times picking the surface under a\n"
          "ray instead: building and refitting the bounding volume hierarchy, a pick\n"

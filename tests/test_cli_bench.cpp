@@ -39,3 +39,18 @@ TEST_CASE("vfsd bench --picking runs and its hierarchy agrees with the loop", "[
     const std::string command = std::string("'") + VFSD_CLI_PATH + "' bench --picking --mesh builtin:sphere:4 --rays 200 >/dev/null";
     CHECK(std::system(command.c_str()) == 0);
 }
+
+TEST_CASE("vfsd bench --busy runs beside a busy process and ends it", "[bench][cli]") {
+    vfsd::test::ScratchDir dir;
+    const std::string command = std::string("'") + VFSD_CLI_PATH + "' bench --quick --no-gpu --busy --data '" +
+                                dir.file("bench.dat") + "' >'" + dir.file("out.txt") + "'";
+    REQUIRE(std::system(command.c_str()) == 0);
+    std::ifstream out(dir.file("out.txt"));
+    std::stringstream text;
+    text << out.rdbuf();
+    CHECK(text.str().find("a busy process runs beside the bench") != std::string::npos);
+    // The busy child (a fork: the same command line) is gone once the bench is.
+    const std::string left = std::string("pgrep -x -f -- '") + VFSD_CLI_PATH +
+                             " bench --quick --no-gpu --busy --data " + dir.file("bench.dat") + "' >/dev/null";
+    CHECK(std::system(left.c_str()) != 0);
+}

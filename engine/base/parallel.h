@@ -1,7 +1,9 @@
 #pragma once
 // parallel_for: splits [0, n) into one contiguous chunk per hardware thread and
 // runs them on a persistent pool (the calling thread takes the first chunk).
-// Small ranges, and builds without threads (WebAssembly), run serially. The
+// Small ranges, and builds without threads (WebAssembly), run serially; so do
+// calls while the pool finds the calling thread alone faster (a busy machine:
+// it times both every few thousand calls). The
 // passes of deform/passes.h use it; each call is a barrier. Calls from several
 // threads take turns; `body` must not call parallel_for itself.
 

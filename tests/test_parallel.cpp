@@ -1,0 +1,92 @@
+// parallel_for and parallel_sum (base/parallel.h): every index once, whatever
+// the range, the thread limit or other callers; sums with the same bits on one
+// thread and on all.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include "base/parallel.h"
+
+using namespace vfsd;
+
+namespace {
+
+// Runs parallel_for over [0, n) and checks that each index was visited once
+// (counted in atomics: Catch's assertions are for the test's own thread).
+void check_each_once(std::size_t n, std::size_t grain) {
+    std::vector<std::atomic<int>> visits(n);
+    std::atomic<std::size_t> calls{0}, bad_chunks{0};
+    parallel_for(
+        n,
+        [&](std::size_t begin, std::size_t end) {
+            if (!(begin < end && end <= n)) bad_chunks.fetch_add(1);
+            for (std::size_t i = begin; i < end && i < n; ++i) visits[i].fetch_add(1);
+            calls.fetch_add(1);
+        },
+        grain);
+    std::size_t wrong = 0;
+    for (const auto& v : visits) wrong += v.load() != 1;
+    INFO("n = " << n << ", grain = " << grain << ", " << calls.load() << " chunks");
+    CHECK(bad_chunks == 0);
+    CHECK(wrong == 0);
+}
+
+}  // namespace
+
+TEST_CASE("parallel_for visits every index once, on any number of threads", "[parallel]") {
+    for (const unsigned limit : {0u, 1u, 2u})
+        for (const std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(7), std::size_t(8191),
+                                    std::size_t(8192), std::size_t(8193), std::size_t(100000)})
+            for (const std::size_t grain : {std::size_t(1), kParallelGrain}) {
+                set_parallel_thread_limit(limit);
+                check_each_once(n, grain);
+            }
+    set_parallel_thread_limit(0);
+}
+
+TEST_CASE("parallel_for from several threads at once: the calls take turns", "[parallel]") {
+    std::vector<std::thread> callers;
+    std::atomic<std::size_t> wrong{0};
+    for (int t = 0; t < 4; ++t)
+        callers.emplace_back([&] {
+            for (int call = 0; call < 200; ++call) {
+                const std::size_t n = 9000 + 37 * call;
+                std::vector<int> visits(n, 0);  // each call's own
+                parallel_for(n, [&](std::size_t begin, std::size_t end) {
+                    for (std::size_t i = begin; i < end; ++i) visits[i] += 1;
+                });
+                for (const int v : visits) wrong += v != 1;
+            }
+        });
+    for (std::thread& t : callers) t.join();
+    CHECK(wrong == 0);
+}
+
+TEST_CASE("parallel_sum gives the same bits on one thread and on all", "[parallel]") {
+    const auto term = [](std::size_t i) { return std::sin(double(i)) / (1.0 + double(i % 97)); };
+    for (const std::size_t n : {std::size_t(10), std::size_t(50000), std::size_t(1000003)}) {
+        set_parallel_thread_limit(1);
+        const double one = parallel_sum(n, term);
+        set_parallel_thread_limit(0);
+        for (int again = 0; again < 20; ++again) CHECK(parallel_sum(n, term) == one);
+    }
+}
+
+TEST_CASE("parallel_for keeps every index once with a busy thread beside it", "[parallel]") {
+    // Threads spinning on every core: the pool's workers run late or not at all,
+    // and it may fall back to the calling thread; nothing may be lost or doubled.
+    std::atomic<bool> stop{false};
+    std::vector<std::thread> busy;
+    for (unsigned t = 0; t < std::max(1u, std::thread::hardware_concurrency()); ++t)
+        busy.emplace_back([&] {
+            for (volatile unsigned long spin = 0; !stop.load(std::memory_order_relaxed); spin = spin + 1) {
+            }
+        });
+    for (int call = 0; call < 3000; ++call) check_each_once(20000 + call, kParallelGrain);
+    stop = true;
+    for (std::thread& t : busy) t.join();
+}
