@@ -33,7 +33,7 @@ const std::vector<Command>& commands() {
          "context can be made vfsd exits 1 and says why. --threads limits the\n"
          "CPU backend's threads (default: all). When triangles fold, the mesh is refined\n"
          "around them at rest and the scene runs again from t = 0 (\"fold_refinement\"\n"
-         "times, default 3): the result then has the (welded) input's vertices and new\n"
+         "times, default 6): the result then has the (welded) input's vertices and new\n"
          "ones after them, and stderr and the report's \"refinement\" say so. When\n"
          "triangles still fold, stderr says how\n"
          "many, after which step and where; the report's \"folds\" lists them.\n"

@@ -159,7 +159,7 @@ TEST_CASE("battery at full amplitude: no folds, outer in place, inner rigid, vol
         flow_folds += alone.quality.flipped_triangles, flow_folded += alone.quality.flipped_triangles > 0;
         // The flow alone on a mesh refined where it folds (scene/scene_run.h): never
         // more folds; the input's vertices first, where they were; the promises kept.
-        flow.fold_refinements = 3;
+        flow.fold_refinements = DeformationOptions{}.fold_refinements;
         const Run refined = deform(b, flow);
         INFO(b.name << ": refined " << refined.refinements << " times");
         check_promises(b, refined.quality);

@@ -45,7 +45,7 @@ struct DeformationOptions {
     // A whole scene's run (scene/scene_run.h), not a Deformation, reads this: how
     // many times to refine the mesh at rest where triangles folded anyway and run
     // again from t = 0; 0: never.
-    int fold_refinements = 3;
+    int fold_refinements = 6;
 };
 
 // Throws InputError when an option is out of range.

@@ -324,7 +324,7 @@ const std::vector<SceneKey>& scene_keys() {
         {"fold_repair", "true: a folded triangle's blend vertices placed again after the step; false: as sec. 5",
          "true"},
         {"fold_refinement",
-         "how many times vfsd deform refines the mesh where triangles folded anyway and runs again; 0: never", "3"},
+         "how many times vfsd deform refines the mesh where triangles folded anyway and runs again; 0: never", "6"},
         {"steps", "RK4 steps from t = 0 to 1", "250"},
         {"smoothing_steps", "Laplacian smoothing steps on the gradient per integration step", "10"},
         {"target_time", "where vfsd deform stops, in [0, 1]", "1"},

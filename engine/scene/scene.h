@@ -19,7 +19,7 @@
 //   "smoothing": "space" | "tangent",                 //   fit, space, true, true; "paper",
 //   "keep_volume": true | false,                      //   "tangent", false, false is sec. 5
 //   "fold_repair": true | false,                      //   as printed
-//   "fold_refinement": 3 }                            // runs again refined where folded (scene/scene_run.h)
+//   "fold_refinement": 6 }                            // runs again refined where folded (scene/scene_run.h)
 
 #include <string>
 #include <vector>

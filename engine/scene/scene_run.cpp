@@ -58,20 +58,23 @@ std::vector<std::uint32_t> triangles_around(const TriangleMesh& mesh, const std:
 SceneRun run_scene(PreparedScene& prepared, const StartDeformation& start, const RunProgress& progress) {
     const std::size_t vertices_before = prepared.file.mesh.vertex_count();
     SceneRun best = run_once(prepared, start, progress, 0);
-    for (int round = 1; round <= prepared.scene.options.fold_refinements && !best.watch.folded.empty(); ++round) {
-        PreparedScene finer = prepared;
-        refine_at_rest(finer, triangles_around(finer.file.mesh, best.watch.folded));
-        if (finer.file.mesh.vertex_count() > kMaxGrowth * vertices_before) break;
-        std::optional<SceneRun> tried;
+    std::optional<PreparedScene> last;  // the mesh the next refinement starts from
+    std::vector<std::uint32_t> folded = best.watch.folded;
+    for (int round = 1; round <= prepared.scene.options.fold_refinements && !folded.empty(); ++round) {
+        if (!last) last.emplace(prepared);
+        refine_at_rest(*last, triangles_around(last->file.mesh, folded));
+        if (last->file.mesh.vertex_count() > kMaxGrowth * vertices_before) break;
+        std::optional<SceneRun> run;
         try {
-            tried.emplace(run_once(finer, start, progress, round));
+            run.emplace(run_once(*last, start, progress, round));
         } catch (const NumericalError&) {
-            break;  // keep the run that finished
+            break;  // keep the best run that finished
         }
-        SceneRun& run = *tried;
-        if (run.watch.folded.size() > best.watch.folded.size()) break;  // finer folded more: keep the last
-        best = std::move(run);
-        prepared = std::move(finer);
+        folded = run->watch.folded;
+        if (folded.size() < best.watch.folded.size()) {  // the first of equals stays
+            best = std::move(*run);
+            prepared = *last;
+        }
     }
     best.vertices_before = vertices_before;
     return best;

@@ -47,12 +47,13 @@ using StartDeformation = std::function<Deformation(const PreparedScene&)>;
 using RunProgress = std::function<void(const Deformation&, int refinements)>;
 
 // Runs `prepared` to its scene's target time. Where triangles fold, refines them
-// and the triangles around their corners (refine_at_rest) and runs again, at
-// most prepared.scene.options.fold_refinements times, while no run folds more
-// triangles than the one before it and the mesh has at most twice the input's
-// vertices; returns the last run kept, and `prepared` keeps the mesh it
-// belongs to. Throws what the first run's deformation throws (NumericalError
-// on a non-finite position); a refined run that throws ends the refinement.
+// and the triangles around their corners (refine_at_rest) and runs again, then
+// refines that mesh where its run folded, and so on, at most
+// prepared.scene.options.fold_refinements times and while the mesh has at most
+// twice the input's vertices; returns the run that folded fewest triangles over
+// its tenths (the first of equals), and `prepared` keeps the mesh that run
+// belongs to. Throws what the first run's deformation throws (NumericalError on
+// a non-finite position); a refined run that throws ends the refinement.
 SceneRun run_scene(PreparedScene& prepared, const StartDeformation& start = {}, const RunProgress& progress = {});
 
 // Splits the edges of `triangles` at rest (mesh/subdivision.h, refine_triangles):
