@@ -33,8 +33,8 @@ struct FoldWatch {
 };
 
 struct SceneRun {
-    std::optional<Deformation> deformation;  // the last run's, at the target time
-    FoldWatch watch;                         // the last run's
+    std::optional<Deformation> deformation;  // the kept run's, at the target time
+    FoldWatch watch;                         // the kept run's
     int refinements = 0;                     // refinements of the mesh this run had
     std::size_t vertices_before = 0;         // the mesh's vertices before it was refined
 };
