@@ -3,6 +3,9 @@
 //
 // Runs the scene's deformation from t = 0 to its target time and writes the
 // deformed mesh in the input's vertex order and layout, and a measured report.
+// Where triangles fold, the run is repeated on a mesh refined there
+// (scene/scene_run.h); the mesh written is then the refined one, the welded
+// input's vertices first.
 // --backend gpu runs the same steps as fragment passes (docs/gpu.md) in a headless
 // GL context (OSMesa, or EGL in a build with VFSD_HEADLESS_GL=egl); when none can
 // be made it exits 1 saying why (no silent fall-back to the CPU). The report names

@@ -86,7 +86,7 @@ TEST_CASE("parallel_for keeps every index once with a busy thread beside it", "[
             for (volatile unsigned long spin = 0; !stop.load(std::memory_order_relaxed); spin = spin + 1) {
             }
         });
-    for (int call = 0; call < 3000; ++call) check_each_once(20000 + call, kParallelGrain);
+    for (int call = 0; call < 1000; ++call) check_each_once(20000 + call, kParallelGrain);
     stop = true;
     for (std::thread& t : busy) t.join();
 }

@@ -3,9 +3,9 @@
 // runs them on a persistent pool (the calling thread takes the first chunk).
 // Small ranges, and builds without threads (WebAssembly), run serially; so do
 // calls while the pool finds the calling thread alone faster (a busy machine:
-// it times both every few thousand calls). The
-// passes of deform/passes.h use it; each call is a barrier. Calls from several
-// threads take turns; `body` must not call parallel_for itself.
+// it times both every few thousand calls). The passes of deform/passes.h use
+// it; each call is a barrier. Calls from several threads take turns; `body`
+// must not call parallel_for itself.
 
 #include <cstddef>
 #include <functional>

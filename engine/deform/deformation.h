@@ -52,8 +52,8 @@ struct DeformationOptions {
 void check_options(const DeformationOptions& options);
 
 // The options with the steps beyond sec. 5 turned off (the stream gauge fit, the
-// volume keeper, the fold repair and the refinement): with tangent smoothing and the geodesic
-// profile, the scheme as printed.
+// volume keeper, the fold repair and the refinement): with tangent smoothing
+// and the geodesic profile, the scheme as printed.
 DeformationOptions paper_steps(DeformationOptions options);
 
 // Which part of the shape moves: s per vertex (0 full, 1 none), or the sphere tool.
