@@ -1,5 +1,5 @@
 // vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--busy]
-// (vfsd bench --picking: command_bench_picking.cpp)
+// (vfsd bench --picking: command_bench_picking.cpp; --latency: command_bench_latency.cpp)
 //
 // Reproduces the paper's timing table (sec. 7.1) with our models: per mesh,
 // a bending deformation of 250 RK4 steps with 10 smoothing steps, timed per
@@ -84,27 +84,6 @@ std::vector<Model> models(bool quick) {
     list.push_back({"cylinder 1M", "builtin:cylinder:707", 0, 0});
     list.push_back({"cylinder 2M", "builtin:cylinder:1000", 0, 0});
     return list;
-}
-
-// A bend of the top of the mesh's longest axis by about 45°: s = 0 on the top
-// 15 %, 1 on the bottom 40 %, linear between; the curve leaves the top along the
-// axis and turns toward the next axis.
-void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurve& curve) {
-    const BoundingBox box = bounding_box(mesh.positions);
-    const Vec3 e = box.extent();
-    const int a = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
-    const int p = (a + 1) % 3;
-    const double lo = box.min[a], length = e[a];
-    region.s.resize(mesh.vertex_count());
-    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
-        region.s[v] = std::clamp((box.max[a] - 0.15 * length - mesh.positions[v][a]) / (0.45 * length), 0.0, 1.0);
-    Vec3 axis(0.0), side(0.0);
-    axis[a] = 1.0;
-    side[p] = 1.0;
-    Vec3 c0 = box.centre();
-    c0[a] = lo + length;
-    const double r = 0.5 * length;
-    curve = BezierCurve({c0, c0 + 0.3 * r * axis, c0 + 0.55 * r * axis + 0.15 * r * side, c0 + 0.7 * r * axis + 0.35 * r * side});
 }
 
 // Half the spread between the 10th and 90th percentile, relative to the median.
@@ -209,6 +188,28 @@ std::string data_lines(const std::vector<Result>& results) {
 
 }  // namespace
 
+// A bend of the top of the mesh's longest axis by about 45°: s = 0 on the top
+// 15 %, 1 on the bottom 40 %, linear between; the curve leaves the top along the
+// axis and turns toward the next axis.
+void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurve& curve) {
+    const BoundingBox box = bounding_box(mesh.positions);
+    const Vec3 e = box.extent();
+    const int a = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
+    const int p = (a + 1) % 3;
+    const double lo = box.min[a], length = e[a];
+    region.s.resize(mesh.vertex_count());
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        region.s[v] = std::clamp((box.max[a] - 0.15 * length - mesh.positions[v][a]) / (0.45 * length), 0.0, 1.0);
+    Vec3 axis(0.0), side(0.0);
+    axis[a] = 1.0;
+    side[p] = 1.0;
+    Vec3 c0 = box.centre();
+    c0[a] = lo + length;
+    const double r = 0.5 * length;
+    curve = BezierCurve(
+        {c0, c0 + 0.3 * r * axis, c0 + 0.55 * r * axis + 0.15 * r * side, c0 + 0.7 * r * axis + 0.35 * r * side});
+}
+
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v.empty() ? 0.0 : v[v.size() / 2];
@@ -216,6 +217,7 @@ double median(std::vector<double> v) {
 
 int run_bench(const Args& args) {
     if (args.has("picking")) return run_picking_bench(args);
+    if (args.has("latency")) return run_latency_bench(args);
     args.expect({"quick", "only", "markdown", "data", "steps", "repeat", "no-gpu", "busy"}, 0, 0);
     const bool quick = args.has("quick");
     const int steps = static_cast<int>(args.get_number("steps", quick ? 10 : 250));

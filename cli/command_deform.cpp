@@ -1,4 +1,4 @@
-// vfsd deform SCENE.json --out OUT [--report REPORT.json] [--steps N] [--backend cpu|gpu]
+// vfsd deform SCENE.json --out OUT [--report REPORT.json] [--steps N | --tolerance T] [--backend cpu|gpu]
 //             [--field-out FILE] [--force]
 //
 // Runs the scene's deformation from t = 0 to its target time and writes the
@@ -93,6 +93,13 @@ nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const D
             {"triangles", p.file.mesh.triangle_count()},
             {"steps", d.step_milliseconds().size()},
             {"steps_per_unit_time", d.options().steps},
+            // deform/deformation.h: the step control's tolerance and what its estimates saw
+            {"step_control",
+             {{"error_controlled", d.error_controlled()},
+              {"tolerance", d.options().tolerance},
+              {"rejected_steps", d.step_errors().rejected},
+              {"estimated_step_error_largest", d.step_errors().largest},
+              {"estimated_error_sum", d.step_errors().sum}}},
             {"target_time", d.time()},
             {"backend", d.backend_name()},
             {"ms_per_step", d.ms_per_step()},
@@ -149,16 +156,17 @@ int deform_and_write(const Args& args, PreparedScene& prepared, const StartDefor
     if (args.has("report")) write_file_atomically(args.get("report"), report.dump(2) + "\n");
     char volume[64] = "volume undefined (open or non-manifold surface)";
     if (quality.volume_defined) std::snprintf(volume, sizeof volume, "volume error %.4f%%", quality.volume_error_percent);
-    std::printf("%s: %zu vertices, %d steps, %.3f ms/step, %s, %zu flipped triangles\n", args.get("out").c_str(),
+    std::printf("%s: %zu vertices, %d steps%s, %.3f ms/step, %s, %zu flipped triangles\n", args.get("out").c_str(),
                 result.vertex_count(), static_cast<int>(deformation.step_milliseconds().size()),
-                report["ms_per_step"].get<double>(), volume, quality.flipped_triangles);
+                deformation.error_controlled() ? " (error-controlled)" : "", report["ms_per_step"].get<double>(),
+                volume, quality.flipped_triangles);
     return kExitOk;
 }
 
 }  // namespace
 
 int run_deform(const Args& args) {
-    args.expect({"out", "report", "steps", "backend", "field-out", "force", "threads"}, 1, 1);
+    args.expect({"out", "report", "steps", "tolerance", "backend", "field-out", "force", "threads"}, 1, 1);
     const std::string scene_path = args.positional(0, "scene file");
     if (!args.has("out") || args.get("out").empty()) throw UsageError("--out OUT is required");
     const std::string backend = args.get("backend", "cpu");
@@ -173,6 +181,14 @@ int run_deform(const Args& args) {
         const double steps = args.get_number("steps", 0);
         if (steps < 1 || steps != static_cast<int>(steps)) throw UsageError("--steps expects a positive integer");
         scene.options.steps = static_cast<int>(steps);
+        scene.options.tolerance = 0.0;
+    }
+    if (args.has("tolerance")) {
+        if (args.has("steps"))
+            throw UsageError("--steps (fixed steps) and --tolerance (error-controlled) exclude each other");
+        const double tolerance = args.get_number("tolerance", 0);
+        if (!(tolerance >= 0.0 && tolerance <= 0.1)) throw UsageError("--tolerance expects 0 to 0.1 (of the diagonal)");
+        scene.options.tolerance = tolerance;
     }
     const std::vector<std::string> inputs = {scene_path, scene.mesh};
     for (const char* option : {"out", "report", "field-out"})

@@ -26,8 +26,13 @@ const std::vector<Command>& commands() {
          run_convert},
         {"deform", "deform a mesh as a scene file describes and report the result",
          "usage: vfsd deform SCENE.json --out OUT.{obj,off,ply,glb} [--report REPORT.json]\n"
-         "                  [--steps N] [--backend cpu|gpu] [--threads N] [--field-out FILE] [--force]\n"
+         "                  [--steps N | --tolerance T] [--backend cpu|gpu] [--threads N] [--field-out FILE] "
+         "[--force]\n"
          "\n"
+         "--steps N takes N fixed RK4 steps per unit time (sec. 7.1); --tolerance T\n"
+         "controls each step's estimated error to T of the bounding box diagonal (a\n"
+         "scene file that gives neither: 0.0005). The report's \"step_control\" gives\n"
+         "the steps rejected and the estimates.\n"
          "--backend gpu runs the scene's steps as fragment passes in a headless GL\n"
          "context (OSMesa), the CPU's scheme pass by pass (docs/gpu.md); when no\n"
          "context can be made vfsd exits 1 and says why. --threads limits the\n"

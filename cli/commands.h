@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "curve/bezier_curve.h"
+#include "deform/deformation.h"
+
 namespace vfsd::cli {
 
 constexpr int kExitOk = 0;
@@ -55,6 +58,11 @@ int run_render(const Args& args);
 int run_bench(const Args& args);
 int run_battery(const Args& args);
 int run_picking_bench(const Args& args);  // vfsd bench --picking
+int run_latency_bench(const Args& args);  // vfsd bench --latency
+
+// vfsd bench's deformation of a mesh: the top 15 % of its longest axis bent by
+// about 45° (s = 0 there, 1 on the bottom 40 %, linear between).
+void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurve& curve);
 
 // The middle value (the upper one of an even count); 0 for none.
 double median(std::vector<double> values);

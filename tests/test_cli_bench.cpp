@@ -54,3 +54,31 @@ TEST_CASE("vfsd bench --busy runs beside a busy process and ends it", "[bench][c
                              " bench --quick --no-gpu --busy --data " + dir.file("bench.dat") + "' >/dev/null";
     CHECK(std::system(left.c_str()) != 0);
 }
+
+TEST_CASE("vfsd bench --latency --quick runs error-controlled steps and compares them with fixed ones",
+          "[bench][cli][step-control]") {
+    vfsd::test::ScratchDir dir;
+    const std::string command =
+        std::string("'") + VFSD_CLI_PATH + "' bench --latency --quick > '" + dir.file("latency.txt") + "'";
+    REQUIRE(std::system(command.c_str()) == 0);
+    std::ifstream out(dir.file("latency.txt"));
+    std::string line;
+    bool found = false;
+    while (std::getline(out, line)) {
+        if (line.rfind("box bend", 0) != 0) continue;
+        found = true;
+        // box bend  VERTICES  PREPARE ms  INTEGRATE ms  STEPS  REJECTED  MAX  P99.9  FOLDS / REF
+        std::istringstream fields(line.substr(std::string("box bend").size()));
+        double vertices = 0, prepare = 0, integrate = 0, steps = 0, rejected = 0, max_dev = 1, p999 = 1;
+        std::string ms;
+        fields >> vertices >> prepare >> ms >> integrate >> ms >> steps >> rejected >> max_dev >> p999;
+        CHECK(vertices > 100);
+        CHECK(steps > 0);
+        CHECK(steps < 200 / 4);  // far fewer than the reference's 200
+        CHECK(rejected >= 0);
+        CHECK(max_dev < 2 * 5e-4);  // within twice the default tolerance of the fixed-step reference
+        CHECK(p999 <= max_dev);
+        CHECK(line.find("0 / 0") != std::string::npos);  // no folds, as the reference
+    }
+    CHECK(found);
+}

@@ -87,6 +87,32 @@ TEST_CASE("vfsd deform writes the deformed mesh in the input's layout and a repo
     CHECK(lines == input.file_vertex_count());
 }
 
+TEST_CASE("vfsd deform takes error-controlled steps with --tolerance and reports them", "[deform][cli][step-control]") {
+    ScratchDir dir;
+    // The bar's handle scene: a blend region, so the steps have an estimate.
+    const std::string scene = std::string(VFSD_SOURCE_DIR) + "/assets/scenes/fig13-bar-handle-bend.json";
+    REQUIRE(deform(dir, "'" + scene + "' --tolerance 1e-3 --out '" + dir.file("out.ply") + "' --report '" +
+                            dir.file("r.json") + "'") == 0);
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir.file("r.json")));
+    const nlohmann::json& control = report["step_control"];
+    CHECK(control["error_controlled"] == true);
+    CHECK(control["tolerance"] == 1e-3);
+    CHECK(control["estimated_step_error_largest"].get<double>() <= 1e-3);
+    CHECK(control["estimated_step_error_largest"].get<double>() > 0.0);
+    CHECK(control["estimated_error_sum"].get<double>() >= control["estimated_step_error_largest"].get<double>());
+    CHECK(control["rejected_steps"].get<int>() >= 0);
+    CHECK(report["steps"].get<int>() < 250 / 4);  // the file's fixed 250, replaced
+    CHECK(report["target_time"] == 1.0);
+    // --steps keeps fixed steps; both at once is a usage error (exit 2).
+    REQUIRE(deform(dir, "'" + scene + "' --steps 30 --force --out '" + dir.file("out.ply") + "' --report '" +
+                            dir.file("r.json") + "'") == 0);
+    const nlohmann::json fixed = nlohmann::json::parse(std::ifstream(dir.file("r.json")));
+    CHECK(fixed["step_control"]["error_controlled"] == false);
+    CHECK(fixed["step_control"]["rejected_steps"] == 0);
+    CHECK(deform(dir, "'" + scene + "' --steps 30 --tolerance 1e-3 --force --out '" + dir.file("out.ply") + "'") == 2);
+    CHECK(deform(dir, "'" + scene + "' --tolerance 0.5 --force --out '" + dir.file("out.ply") + "'") == 2);
+}
+
 TEST_CASE("vfsd deform says when triangles fold, how many, from when and where", "[deform][cli]") {
     ScratchDir dir;
     // The box of fig. 5 twisted by 180° with sec. 5 as printed and no smoothing:

@@ -91,7 +91,17 @@ TEST_CASE("GPU deformation of every scene agrees with the CPU", "[gpu][scene]") 
                     p99 / diagonal, over, q_cpu.volume_error_percent, q_gpu.volume_error_percent, q_cpu.flipped_triangles,
                     q_gpu.flipped_triangles, cpu_ms / steps, gpu_ms / steps, test::gpu_context()->renderer().c_str());
         INFO(file);
-        CHECK(error < 1e-4 * diagonal);
+        // The fold repair decides on triangles at the edge of folding: float and
+        // double may repair after one step more or fewer, which moves the repaired
+        // vertices by up to the repair's largest shift.
+        const FoldRepairStats cpu_repairs = cpu.fold_repairs(), gpu_repairs = gpu.fold_repairs();
+        const double repair_shift = cpu_repairs.steps_repaired == gpu_repairs.steps_repaired
+                                        ? 0.0
+                                        : std::max(cpu_repairs.max_shift, gpu_repairs.max_shift);
+        INFO("repaired after " << cpu_repairs.steps_repaired << " (cpu) and " << gpu_repairs.steps_repaired
+                               << " (gpu) steps");
+        CHECK(p99 < 1e-4 * diagonal);
+        CHECK(error < 1e-4 * diagonal + repair_shift);
         CHECK(q_gpu.volume_error_percent < q_cpu.volume_error_percent + 0.05);
         CHECK(q_gpu.flipped_triangles <= q_cpu.flipped_triangles);
     }

@@ -168,8 +168,9 @@ TEST_CASE("GPU midpoint predictor equals predict_midpoints", "[gpu]") {
         std::vector<Vec3> cpu;
         const std::vector<Vec3> gradients = upload_some_gradients(in, gpu);
         const double h = 1.0 / 250.0;
-        predict_midpoints(motion.at(0.3), h, in.s, RegionParts::of(in.s, in.rings), gradients, in.positions, cpu);
-        gpu.predict_midpoints(motion.at(0.3), h);
+        const StepMotion half = StepMotion::sample(motion, 0.3, 0.5 * h);
+        predict_midpoints(half, in.s, RegionParts::of(in.s, in.rings), gradients, in.positions, cpu);
+        gpu.predict_midpoints(half);
         const double error = test::max_distance(gpu.read_midpoints(), cpu);
         report("predictor", in.name, error, in.size);
         CHECK(error < 1e-6 * in.size);
@@ -302,7 +303,7 @@ TEST_CASE("GPU passes read nothing back", "[gpu]") {
     gpu.estimate_normals(gpu::At::positions);
     gpu.estimate_gradients(gpu::At::positions);
     gpu.smooth_gradients(3, 0.5, true);
-    gpu.predict_midpoints(test_motion().at(0.0), 0.01);
+    gpu.predict_midpoints(StepMotion::sample(test_motion(), 0.0, 0.005));
     gpu.deformation_step(StepMotion::sample(test_motion(), 0.0, 0.01));
     CHECK(gpu::readback_count() == before);
     gpu.read_positions();

@@ -5,6 +5,7 @@
 // backends alike.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -25,22 +26,43 @@ struct Call {
 struct Record {
     std::vector<Call> calls;
     int finishes = 0;
+    int refused = 0;
+};
+
+// With `error_scale` > 0 it estimates each step's error as error_scale · h² · (1 +
+// time), an error that grows along the way, as the step control assumes
+// (StepControl::next_length), and refuses a step over its bound.
+struct Estimates {
+    double error_scale = 0.0;
+    std::vector<double> joins;
 };
 
 class RecordingBackend final : public StepBackend {
 public:
-    RecordingBackend(Record& record, bool asynchronous, int poison_step = 0)
-        : record_(record), asynchronous_(asynchronous), poison_step_(poison_step), positions_(3, Vec3(0.0)) {}
+    RecordingBackend(Record& record, bool asynchronous, int poison_step = 0, Estimates estimates = {})
+        : record_(record),
+          asynchronous_(asynchronous),
+          poison_step_(poison_step),
+          estimates_(std::move(estimates)),
+          positions_(3, Vec3(0.0)) {}
+    bool estimates_error() const override { return estimates_.error_scale > 0.0; }
+    std::vector<double> motion_joins() const override { return estimates_.joins; }
     const char* name() const override { return asynchronous_ ? "async" : "sync"; }
     bool asynchronous() const override { return asynchronous_; }
     void finish() const override { ++record_.finishes; }
-    void step(double time, double h, int step) override {
+    StepResult step(double time, double h, int step, double max_error) override {
+        const double error = estimates_.error_scale * h * h * (1.0 + time);
+        if (estimates_error() && error > max_error) {
+            ++record_.refused;
+            return {false, error};
+        }
         record_.calls.push_back({time, h, step});
         positions_[0].x = time + h;
         if (poison_step_ > 0 && step >= poison_step_) {
             if (!asynchronous_) throw nonfinite_position(2, step, time);
             positions_[2].y = std::numeric_limits<double>::quiet_NaN();
         }
+        return {true, estimates_error() ? error : -1.0};
     }
     const std::vector<Vec3>& positions() const override { return positions_; }
 
@@ -48,6 +70,7 @@ private:
     Record& record_;
     bool asynchronous_;
     int poison_step_;
+    Estimates estimates_;
     std::vector<Vec3> positions_;
 };
 
@@ -144,4 +167,132 @@ TEST_CASE("an asynchronous backend's steps are timed over its finish, one figure
     CHECK(d.ms_per_step() == d.step_milliseconds().front());
     CHECK(std::string(d.backend_name()) == "async");
     CHECK(!d.device_vertices());
+}
+
+namespace {
+
+Deformation controlled(Record& record, double tolerance, Estimates estimates, bool asynchronous = false) {
+    DeformationOptions options;
+    options.tolerance = tolerance;
+    return Deformation(std::make_unique<RecordingBackend>(record, asynchronous, 0, std::move(estimates)), options);
+}
+
+}  // namespace
+
+TEST_CASE("error-controlled steps keep each estimate within the tolerance, land on every join and grow where they can",
+          "[deformation][integrator][step-control]") {
+    std::mt19937 random(5);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (int trial = 0; trial < 40; ++trial) {
+        Estimates estimates;
+        estimates.error_scale = std::pow(10.0, -4.0 + 5.0 * unit(random));
+        for (int j = 0, joins = static_cast<int>(unit(random) * 5); j < joins; ++j)
+            estimates.joins.push_back(0.05 + 0.9 * unit(random));
+        std::sort(estimates.joins.begin(), estimates.joins.end());
+        const double tolerance = std::pow(10.0, -5.0 + 3.0 * unit(random));
+        CAPTURE(trial, estimates.error_scale, tolerance);
+        Record record;
+        Deformation d = controlled(record, tolerance, estimates);
+        REQUIRE(d.error_controlled());
+        d.advance(1.0);
+        CHECK(d.time() == 1.0);
+        double time = 0.0, longest = 0.0;
+        for (const Call& call : record.calls) {
+            CHECK(call.time == time);
+            const double error = estimates.error_scale * call.h * call.h * (1.0 + call.time);
+            CHECK((error <= tolerance || call.h <= StepControl::kShortestStep));
+            CHECK(call.h <= StepControl::kLongestStep + 1e-15);
+            for (const double join : estimates.joins) CHECK(!(call.time < join && join < call.time + call.h));
+            time = call.time + call.h;
+            longest = std::max(longest, call.h);
+        }
+        for (const double join : estimates.joins)  // landed on exactly: some step ends there
+            CHECK(std::any_of(record.calls.begin(), record.calls.end(),
+                              [&](const Call& c) { return c.time + c.h == join; }));
+        // Where the error allows it, steps grow from the first step's length.
+        if (estimates.error_scale * StepControl::kLongestStep * StepControl::kLongestStep * 2.0 < tolerance &&
+            estimates.joins.empty())
+            CHECK(longest == StepControl::kLongestStep);
+        CHECK(d.step_errors().rejected == record.refused);
+        CHECK(d.step_errors().estimated_steps == static_cast<int>(record.calls.size()));
+        CHECK(d.step_errors().largest <= tolerance);
+    }
+}
+
+TEST_CASE("error-controlled steps take about twice as many steps for a quarter of the tolerance",
+          "[deformation][integrator][step-control]") {
+    // The estimate grows as h², so the steps needed grow as 1 / √tolerance.
+    for (const double scale : {1.0, 30.0, 1000.0}) {
+        Record coarse_record, fine_record;
+        Deformation coarse = controlled(coarse_record, 1e-3, {scale, {}});
+        Deformation fine = controlled(fine_record, 0.25e-3, {scale, {}});
+        const double ratio = double(fine.advance(1.0)) / double(coarse.advance(1.0));
+        CAPTURE(scale, coarse_record.calls.size(), fine_record.calls.size());
+        CHECK(ratio > 1.5);
+        CHECK(ratio < 2.6);
+    }
+}
+
+TEST_CASE("error-controlled steps run back and forth along the times they reached, to any target",
+          "[deformation][integrator][step-control]") {
+    std::mt19937 random(9);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (const bool asynchronous : {false, true}) {
+        Record record;
+        Deformation d = controlled(record, 1e-4, {0.5, {1.0 / 3.0, 2.0 / 3.0}}, asynchronous);
+        d.advance(1.0);
+        std::vector<double> forward;
+        for (const Call& c : record.calls) forward.push_back(c.time + c.h);
+        const int refused = record.refused;
+        for (int move = 0; move < 20; ++move) {
+            const double target = unit(random);
+            const std::size_t before = record.calls.size();
+            d.advance(target);
+            CHECK(d.time() == target);
+            CHECK(std::abs(d.positions()[0].x - target) < 1e-15);
+            // Every step ends on a time reached before or on the target, and no
+            // step is refused: those times' errors were checked on the way out.
+            for (std::size_t c = before; c < record.calls.size(); ++c) {
+                const double end = record.calls[c].time + record.calls[c].h;
+                const bool on_grid = end == 0.0 || std::binary_search(forward.begin(), forward.end(), end);
+                CHECK((on_grid || end == target));
+            }
+        }
+        CHECK(record.refused == refused);
+        // Back to 0 and out again: the same times as the first way out.
+        d.advance(0.0);
+        const std::size_t before = record.calls.size();
+        d.advance(1.0);
+        std::vector<double> again;
+        for (std::size_t c = before; c < record.calls.size(); ++c)
+            again.push_back(record.calls[c].time + record.calls[c].h);
+        CHECK(again == forward);
+    }
+}
+
+TEST_CASE("fixed steps end on the curve's joins too", "[deformation][integrator]") {
+    Record record;
+    DeformationOptions options;
+    options.steps = 10;
+    const std::vector<double> joins = {1.0 / 3.0, 0.5, 2.0 / 3.0};
+    Deformation d(std::make_unique<RecordingBackend>(record, false, 0, Estimates{0.0, joins}), options);
+    CHECK(!d.error_controlled());
+    d.advance(1.0);
+    CHECK(record.calls.size() == 12);  // 10 grid cells, two of them cut by a join (0.5 is on the grid)
+    for (const Call& c : record.calls) {
+        const double end = c.time + c.h, k = end * 10.0;
+        CHECK((std::abs(k - std::round(k)) < 1e-9 || std::find(joins.begin(), joins.end(), end) != joins.end()));
+    }
+    d.advance(0.0);  // and back over the same times
+    for (std::size_t c = 12; c < record.calls.size(); ++c)
+        CHECK(record.calls[c].time + record.calls[c].h == record.calls[23 - c].time);
+}
+
+TEST_CASE("the tolerance is checked", "[deformation][integrator][step-control]") {
+    Record record;
+    for (const double bad : {-1e-3, 0.2, std::numeric_limits<double>::quiet_NaN()}) {
+        DeformationOptions options;
+        options.tolerance = bad;
+        CHECK_THROWS_AS(Deformation(std::make_unique<RecordingBackend>(record, false), options), InputError);
+    }
 }

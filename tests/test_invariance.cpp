@@ -84,23 +84,27 @@ Scene box_scene(RegionSpec::Kind region_kind, int variant, const MeshFile& file)
     return scene;
 }
 
-std::vector<Vec3> deform(const Scene& scene, MeshFile file) {
+std::vector<Vec3> deform(const Scene& scene, MeshFile file, std::vector<int>* steps = nullptr) {
     const PreparedScene prepared = prepare_scene(scene, std::move(file));
     Deformation d = prepared.start_deformation();
-    d.advance(1.0);
+    const int taken = d.advance(1.0);
+    if (steps) steps->push_back(taken);
     return d.positions();
 }
 
 // Largest distance between the placed result and the placed scene's result, over
-// the diagonal of the placed mesh.
-double placement_error(RegionSpec::Kind kind, int variant, const Placement& placement) {
+// the diagonal of the placed mesh; with `tolerance`, in error-controlled steps,
+// whose counts go to `steps` (the scene's, then the placed scene's).
+double placement_error(RegionSpec::Kind kind, int variant, const Placement& placement, double tolerance = 0.0,
+                       std::vector<int>* steps = nullptr) {
     const MeshFile file = load_mesh_file("builtin:box:6");
-    const Scene scene = box_scene(kind, variant, file);
-    const std::vector<Vec3> result = deform(scene, file);
+    Scene scene = box_scene(kind, variant, file);
+    scene.options.tolerance = tolerance;
+    const std::vector<Vec3> result = deform(scene, file, steps);
 
     MeshFile placed_file = file;
     place_mesh(placed_file.mesh, placement);
-    const std::vector<Vec3> placed_result = deform(place_scene(scene, placement), placed_file);
+    const std::vector<Vec3> placed_result = deform(place_scene(scene, placement), placed_file, steps);
 
     double worst = 0.0;
     for (std::size_t v = 0; v < result.size(); ++v)
@@ -140,6 +144,26 @@ TEST_CASE("a scene turned and moved far from the origin deforms into the moved r
 
 TEST_CASE("a mirrored scene with its twists negated deforms into the mirrored result", "[invariance]") {
     CHECK(worst_placement_error(turned(1.0, true)) < 1e-6);
+}
+
+TEST_CASE("error-controlled steps are the same for a scene turned, moved, mirrored or scaled",
+          "[invariance][step-control]") {
+    // The step's estimate is relative to the mesh's size (centred_diameter, which
+    // turns with it) and built from the field, which moves with the scene: the
+    // same steps, and the placed result. The steps' lengths come from the
+    // estimates and differ in their last bits, so the bound is 1e-5, not 1e-6
+    // (a handle scene's geodesic region: 1.4e-6 to 3.4e-6).
+    for (const auto kind : {RegionSpec::Kind::field, RegionSpec::Kind::geodesic, RegionSpec::Kind::painted}) {
+        for (int variant = 0; variant < 5; ++variant) {
+            for (const double scale : {1.0, 1e-3, 1e3}) {
+                std::vector<int> steps;
+                INFO("region kind " << int(kind) << ", motion variant " << variant << ", scale " << scale);
+                CHECK(placement_error(kind, variant, turned(scale, variant % 2 == 0), 1e-3, &steps) < 1e-5);
+                REQUIRE(steps.size() == 2);
+                CHECK(steps[0] == steps[1]);
+            }
+        }
+    }
 }
 
 TEST_CASE("a scene scaled by 1e-3 or 1e3 deforms into the scaled result", "[invariance]") {

@@ -17,12 +17,15 @@ BezierCurve::BezierCurve(std::vector<Vec3> control_points) : points_(std::move(c
             throw InputError("curve: control points must be finite");
 }
 
-CurvePoint BezierCurve::at(double t) const {
+CurvePoint BezierCurve::at(double t, JoinSide side) const {
     // Map t to segment j and local parameter u; d/dt = k d/du.
     const double k = static_cast<double>(segment_count());
     const double tk = std::clamp(t, 0.0, 1.0) * k;
-    const std::size_t j = std::min(static_cast<std::size_t>(tk), segment_count() - 1);
-    const double u = tk - static_cast<double>(j);
+    const double join = std::round(tk);
+    const bool on_join = std::abs(tk - join) < 1e-9 * k;
+    std::size_t j = std::min(static_cast<std::size_t>(on_join ? join : tk), segment_count() - 1);
+    if (on_join && side == JoinSide::before && join >= 1.0) j = static_cast<std::size_t>(join) - 1;
+    const double u = on_join ? join - static_cast<double>(j) : tk - static_cast<double>(j);
     const Vec3& b0 = points_[3 * j];
     const Vec3& b1 = points_[3 * j + 1];
     const Vec3& b2 = points_[3 * j + 2];

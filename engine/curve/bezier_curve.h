@@ -16,13 +16,19 @@ struct CurvePoint {
     Vec3 d3;        // c'''(t), constant on each segment
 };
 
+// Which segment a join belongs to: derivatives may jump there, and a step that
+// ends on a join takes the segment it comes from.
+enum class JoinSide { after, before };
+
 class BezierCurve {
 public:
     BezierCurve() = default;
     // Throws InputError unless there are 3k+1 (k >= 1) finite control points.
     explicit BezierCurve(std::vector<Vec3> control_points);
 
-    CurvePoint at(double t) const;
+    // At a join (t within 1e-9 of j / k) the segment after it, or with
+    // JoinSide::before the one before it.
+    CurvePoint at(double t, JoinSide side = JoinSide::after) const;
     std::size_t segment_count() const { return (points_.size() - 1) / 3; }
     const std::vector<Vec3>& control_points() const { return points_; }
     // Upper bound of the curve's length (control polygon length); 0 for a point.

@@ -44,7 +44,7 @@ InnerMotion InnerMotion::rotation_about(Vec3 centre, Vec3 axis_angle) {
     return m;
 }
 
-MotionSample InnerMotion::at(double t) const {
+MotionSample InnerMotion::at(double t, JoinSide join_side) const {
     if (fixed_rotation_) {
         MotionSample s;
         s.position = centre_;
@@ -53,17 +53,24 @@ MotionSample InnerMotion::at(double t) const {
         s.twist_origin = centre_;
         return s;
     }
-    MotionSample s = curve_sample(t);
+    MotionSample s = curve_sample(t, join_side);
     const double scale = curve_.polygon_length();
     if (glm::length(s.velocity) > kStationary * scale || scale == 0.0) return s;
     // ċ vanishes at t: take ω and the tangent direction from just beside t, where
     // the motion heads (after t, or before it at the curve's end).
     const double side = t + kLimitOffset <= 1.0 ? t + kLimitOffset : t - kLimitOffset;
-    const MotionSample beside = curve_sample(side);
+    const MotionSample beside = curve_sample(side, JoinSide::after);
     s.angular_velocity = beside.angular_velocity;
     s.twist = beside.twist;
     s.twist_origin = s.position + twist_plane_ * unit_or_zero(beside.velocity);
     return s;
+}
+
+std::vector<double> InnerMotion::joins() const {
+    std::vector<double> joins;
+    const std::size_t k = fixed_rotation_ ? 0 : curve_.segment_count();
+    for (std::size_t j = 1; j < k; ++j) joins.push_back(double(j) / double(k));
+    return joins;
 }
 
 Vec3 InnerMotion::start_tangent() const {
@@ -74,8 +81,8 @@ Vec3 InnerMotion::start_tangent() const {
     return unit_or_zero(curve_.at(kLimitOffset).d1);
 }
 
-MotionSample InnerMotion::curve_sample(double t) const {
-    const CurvePoint c = curve_.at(t);
+MotionSample InnerMotion::curve_sample(double t, JoinSide side) const {
+    const CurvePoint c = curve_.at(t, side);
     MotionSample s;
     s.position = c.position;
     s.velocity = c.d1;

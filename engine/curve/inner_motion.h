@@ -50,7 +50,11 @@ public:
     // the pure handle rotation of sec. 6.2, eq. (5) with z = h.
     static InnerMotion rotation_about(Vec3 centre, Vec3 axis_angle);
 
-    MotionSample at(double t) const;
+    // At a join of the curve, the motion of the segment after it (or before it, BezierCurve::at).
+    MotionSample at(double t, JoinSide side = JoinSide::after) const;
+    // The times 0 < t < 1 where the curve's segments join (BezierCurve: j / k),
+    // ascending: ċ may turn there, so a step ends on each rather than straddle it.
+    std::vector<double> joins() const;
 
     // The twist's constant of integration. ẽ of eq. (14) may be shifted by any
     // constant without changing the inner region's motion, but the shift decides
@@ -86,7 +90,7 @@ public:
     const Vec3& rotation_vector() const { return axis_angle_; }
 
 private:
-    MotionSample curve_sample(double t) const;
+    MotionSample curve_sample(double t, JoinSide side) const;
 
     InnerMotionMode mode_ = InnerMotionMode::Rotation;
     BezierCurve curve_;

@@ -6,6 +6,7 @@
 
 #include "base/error.h"
 #include "base/parallel.h"
+#include "deform/step_error.h"
 #include "field/stream_gauge.h"
 #include "field/vector_field.h"
 #include "mesh/geometry.h"
@@ -36,6 +37,7 @@ CpuSteps::CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region
         s_ = gather_in_order(region_.s, order_);
         parts_ = RegionParts::of(s_, rings_);
         gauge_samples_ = gauge_samples(s_, parts_.blend);
+        size_ = centred_diameter(positions_);
     }
     normals_.assign(positions_.size(), Vec3(0.0));
     gradients_.assign(positions_.size(), Vec3(0.0));
@@ -43,8 +45,9 @@ CpuSteps::CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region
     midpoints_ = positions_;
 }
 
-void CpuSteps::step(double time, double h, int step) {
+StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     build_keepers();
+    StepResult result;
     StepMotion motion = StepMotion::sample(motion_, time, h);
     for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) *m = frame_.to_local(*m);
     if (region_.sphere_tool) {
@@ -55,12 +58,25 @@ void CpuSteps::step(double time, double h, int step) {
         // The gauge, like ∇r, is taken where the step's middle is, so that a step
         // back retraces the step; the midpoints are predicted with the last step's
         // ∇r and gauge fit, as sec. 5 with midpoint gradients does for ∇r alone.
-        if (!options_.gradients_at_midpoint || !have_gradients_) estimate_at_start();
-        if (options_.fit_stream_gauge) motion.start.gauge = gauge_fit_->gauge_for(motion.start);
+        if (!options_.gradients_at_midpoint || !have_gradients_) estimate_at_start(time);
         if (options_.gradients_at_midpoint) {
-            predict_midpoints(motion.start, h, s_, parts_, gradients_, positions_, midpoints_);
+            StepMotion half = StepMotion::sample(motion_, time, 0.5 * h);
+            for (MotionSample* m : {&half.start, &half.middle, &half.end}) {
+                *m = frame_.to_local(*m);
+                if (options_.fit_stream_gauge) m->gauge = gauge_fit_->gauge_for(*m);
+            }
+            predict_midpoints(half, s_, parts_, gradients_, positions_, midpoints_);
+            sample_gradients_.clear();
+            for (const std::uint32_t v : gauge_samples_) sample_gradients_.push_back(gradients_[v]);
+            const double span = std::abs(time + 0.5 * h - gradient_time_);
             estimate_surface_gradients(midpoints_);
+            gradient_time_ = time + 0.5 * h;
             if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(midpoints_);
+            if (options_.fit_stream_gauge) motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
+            result.error = estimate_error(motion.middle, h, span);
+            // Not taken: the next try predicts its midpoints with the ∇r and the
+            // gauge found here, as a step does with its predecessor's.
+            if (result.error > max_error) return {false, result.error};
         }
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
@@ -80,13 +96,32 @@ void CpuSteps::step(double time, double h, int step) {
     const bool affine_test = FoldRepair::affine_test_due(time, time + h);
     for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
         fold_repair_.repair(positions_, rings_, affine_test && cycle == 0, cycle == 0);
-        if (!fold_repair_.acted() || !volume_.active()) break;
+        if (!fold_repair_.acted()) break;
+        if (!volume_.active()) break;
         for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
             ring_area_vectors(positions_, rings_, parts_.blend, area_vectors_);
             volume_restored_ += std::abs(volume_.restore(positions_, area_vectors_));
         }
     }
     input_order_current_ = false;
+    return result;
+}
+
+// The step's estimated error, relative to the mesh's size (centred_diameter): how far the step would
+// move a vertex differently had ∇r been taken where the predictor's was (at
+// gradient_time_ before this step, `span` from the step's middle), scaled to
+// that difference over half the step. Like the error of taking ∇r at the
+// step's start (sec. 5, first order), it grows as h²; the midpoint ∇r the
+// step takes is second order and errs less (docs/method.md, "Error-controlled
+// steps"). Taken at the gauge's samples, spread over the blend region: the
+// GPU reads those back anyway, and estimates as this does.
+double CpuSteps::estimate_error(const MotionSample& middle, double h, double span) const {
+    return sampled_step_error(middle, h, span, gauge_samples_.size(),
+                              [&](std::size_t j) {
+                                  const std::uint32_t v = gauge_samples_[j];
+                                  return StepErrorSample{midpoints_[v], s_[v], sample_gradients_[j], gradients_[v]};
+                              }) /
+           size_;
 }
 
 const std::vector<Vec3>& CpuSteps::positions() const {
@@ -105,7 +140,7 @@ const std::vector<Vec3>& CpuSteps::positions() const {
 bool CpuSteps::prepare_first_step() {
     if (build_keepers()) return true;
     if (region_.sphere_tool || have_gradients_ || !options_.gradients_at_midpoint) return false;
-    estimate_at_start();
+    estimate_at_start(0.0);
     return true;
 }
 
@@ -120,9 +155,10 @@ bool CpuSteps::build_keepers() {
     return options_.keep_volume || options_.repair_folds;
 }
 
-// ∇r and the gauge's fit at the step's start.
-void CpuSteps::estimate_at_start() {
+// ∇r and the gauge's fit at the step's start, `time`.
+void CpuSteps::estimate_at_start(double time) {
     estimate_surface_gradients(positions_);
+    gradient_time_ = time;
     if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(positions_);
 }
 

@@ -22,7 +22,9 @@ public:
              DeformationOptions options);
 
     const char* name() const override { return "cpu"; }
-    void step(double time, double h, int step) override;
+    StepResult step(double time, double h, int step, double max_error) override;
+    bool estimates_error() const override { return !region_.sphere_tool && options_.gradients_at_midpoint; }
+    std::vector<double> motion_joins() const override { return motion_.joins(); }
     bool prepare_first_step() override;
     const std::vector<Vec3>& positions() const override;
     FoldRepairStats fold_repairs() const override;
@@ -37,7 +39,8 @@ public:
 private:
     void check_finite(const std::vector<Vec3>& candidate, int step, double time) const;
     void estimate_surface_gradients(const std::vector<Vec3>& at);
-    void estimate_at_start();
+    void estimate_at_start(double time);
+    double estimate_error(const MotionSample& middle, double h, double span) const;
     bool build_keepers();
     GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
 
@@ -64,6 +67,9 @@ private:
     std::vector<Vec3> area_vectors_;  // per blend vertex, where normals_ were taken: the volume keeper's ∂V/∂x
     SmoothingScratch smoothing_;
     bool have_gradients_ = false;               // gradients_ hold the last step's ∇r
+    double gradient_time_ = 0.0;                // the time gradients_ were estimated for
+    double size_ = 0.0;                         // centred_diameter at rest, in frame_'s units
+    std::vector<Vec3> sample_gradients_;        // ∇r at gauge_samples_ before this step's estimate
     std::vector<std::uint32_t> gauge_samples_;  // the blend vertices the stream's gauge is fitted to
     std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
     bool keepers_built_ = false;  // volume_ and fold_repair_, at rest (build_keepers)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "deform/cpu_steps.h"
@@ -11,6 +12,8 @@ namespace vfsd {
 
 void check_options(const DeformationOptions& options) {
     if (options.steps < 1) throw InputError("steps must be at least 1");
+    if (!(options.tolerance >= 0.0 && options.tolerance <= 0.1))
+        throw InputError("tolerance must be 0 (fixed steps) to 0.1 of the diagonal");
     if (options.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
     if (options.fold_refinements < 0 || options.fold_refinements > kMaxFoldRefinements)
         throw InputError("fold_refinement must be 0 to " + std::to_string(kMaxFoldRefinements));
@@ -29,6 +32,12 @@ double next_time_on_grid(double time, double target, int steps) {
     return (target > time) == (next > target) ? target : next;
 }
 
+double StepControl::next_length(double h, double error, double tolerance) {
+    const double factor =
+        error > 0.0 ? std::clamp(kSafety * std::sqrt(tolerance / error), kMostShrink, kMostGrowth) : kMostGrowth;
+    return std::clamp(std::abs(h) * factor, kShortestStep, kLongestStep);
+}
+
 NumericalError nonfinite_position(std::size_t vertex, int step, double time) {
     return NumericalError("integration step " + std::to_string(step) + " (t = " + std::to_string(time) +
                           ") made vertex " + std::to_string(vertex) + " non-finite; the mesh before that step is kept");
@@ -37,6 +46,8 @@ NumericalError nonfinite_position(std::size_t vertex, int step, double time) {
 Deformation::Deformation(std::unique_ptr<StepBackend> backend, DeformationOptions options)
     : backend_(std::move(backend)), options_(options) {
     check_options(options_);
+    controlled_ = options_.tolerance > 0.0 && backend_->estimates_error();
+    joins_ = backend_->motion_joins();
 }
 
 Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
@@ -45,6 +56,58 @@ Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region 
                                              std::move(motion), options),
                   options) {}
 
+// The time the next step ends at, on the way to `target`; `controlled`: the
+// step extends the schedule and its error decides whether it is taken.
+double Deformation::next_time(double target, bool& controlled) const {
+    controlled = false;
+    if (!controlled_) {  // the grid k / steps, each step ending on a join it would cross
+        const double next = next_time_on_grid(time_, target, options_.steps);
+        const double low = std::min(time_, next), high = std::max(time_, next);
+        const auto join = std::upper_bound(joins_.begin(), joins_.end(), low);
+        if (join == joins_.end() || *join >= high) return next;
+        return next > time_ ? *join : *(std::lower_bound(joins_.begin(), joins_.end(), high) - 1);
+    }
+    if (target < time_) {  // back, along the times reached
+        const auto before = std::lower_bound(grid_.begin(), grid_.end(), time_) - 1;
+        return std::max(*before, target);
+    }
+    const auto after = std::upper_bound(grid_.begin(), grid_.end(), time_);
+    if (after != grid_.end()) return std::min(*after, target);
+    controlled = true;  // forward from the last time reached: a new step
+    const auto join = std::upper_bound(joins_.begin(), joins_.end(), time_ + StepControl::kShortestStep);
+    const double landing = join != joins_.end() ? *join : 1.0;  // the next time a step must end on
+    // Within a fifth of a step of it, the step reaches it rather than leave a sliver.
+    const double stretched = std::min(1.2 * next_length_, StepControl::kLongestStep);
+    const double next = time_ + stretched >= landing ? landing : time_ + next_length_;
+    return std::min(next, target);
+}
+
+// Keeps the step's estimate, and for a controlled step the time reached and the
+// next step's length.
+void Deformation::note_step(double next, bool controlled, const StepResult& result) {
+    const double h = next - time_;
+    if (result.error >= 0.0 && h > 0.0 && result.taken) {
+        errors_.largest = std::max(errors_.largest, result.error);
+        errors_.sum += result.error;
+        ++errors_.estimated_steps;
+    }
+    if (!controlled) return;
+    const double length = StepControl::next_length(h, std::max(result.error, 0.0), options_.tolerance);
+    if (!result.taken) {
+        ++errors_.rejected;
+        next_length_ = std::min(length, 0.5 * h);
+        just_rejected_ = true;
+        return;
+    }
+    grid_.push_back(next);
+    // A step cut short by a join or the target says little about a longer one;
+    // the step after a rejected one does not grow (it would be rejected again).
+    const bool cut_short = h < next_length_ * (1.0 - 1e-9);
+    next_length_ = cut_short ? std::max(next_length_ * std::min(1.0, length / h), length) : length;
+    if (just_rejected_) next_length_ = std::min(next_length_, h);
+    just_rejected_ = false;
+}
+
 int Deformation::advance(double target, int max_steps) {
     target = std::clamp(target, 0.0, 1.0);
     using Clock = std::chrono::steady_clock;
@@ -52,15 +115,21 @@ int Deformation::advance(double target, int max_steps) {
         return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
     };
     const auto start = Clock::now();
+    auto step_start = start;
     int taken = 0;
     while (taken < max_steps && time_ != target) {
-        const double next = next_time_on_grid(time_, target, options_.steps);
-        const auto step_start = Clock::now();
-        backend_->step(time_, next - time_, steps_taken_ + 1);
+        bool controlled = false;
+        const double next = next_time(target, controlled);
+        const bool shortest = next - time_ <= StepControl::kShortestStep;
+        const double max_error = controlled && !shortest ? options_.tolerance : std::numeric_limits<double>::infinity();
+        const StepResult result = backend_->step(time_, next - time_, steps_taken_ + 1, max_error);
+        note_step(next, controlled, result);
+        if (!result.taken) continue;  // tried again shorter; its time counts to the step taken
         time_ = next;
         ++steps_taken_;
         ++taken;
         if (!backend_->asynchronous()) step_ms_.push_back(milliseconds(step_start));
+        step_start = Clock::now();
     }
     if (taken > 0 && backend_->asynchronous()) {
         backend_->finish();

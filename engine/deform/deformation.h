@@ -1,10 +1,13 @@
 #pragma once
 // A deformation in progress: the mesh's positions at the current time t, moved
-// toward a target time by fixed RK4 steps (sec. 5). Forward and backward both
-// work; the time grid is k / steps, so integrating back returns along it.
+// toward a target time by RK4 steps (sec. 5). Forward and backward both work.
+// The steps are either fixed, on the grid k / steps (sec. 7.1), or, beyond the
+// paper, error-controlled: each step's error is estimated and its length
+// follows (StepControl below); the times reached are kept, so integrating back
+// returns along them either way.
 //
-// Deformation is the one integrator: the time grid, the option checks, the
-// advance loop, the step timing and the finite check. A StepBackend takes the
+// Deformation is the one integrator: the time grid, the step control, the option
+// checks, the advance loop, the step timing and the finite check. A StepBackend takes the
 // steps: the CPU's passes (deform/cpu_steps.h, the readable reference) or their
 // GPU twins (gpu/gpu_deformation.h), which mirror them pass by pass.
 
@@ -28,7 +31,13 @@ class Texture;
 constexpr int kMaxFoldRefinements = 8;
 
 struct DeformationOptions {
-    int steps = 250;                // RK4 steps from t = 0 to t = 1 (sec. 7.1: 200–300)
+    int steps = 250;  // fixed RK4 steps from t = 0 to t = 1 (sec. 7.1: 200–300)
+    // Error-controlled steps when > 0 (then `steps` is unused): each step's
+    // estimated error (StepBackend::step) is kept at most this fraction of the
+    // mesh's size at rest (centred_diameter, mesh/geometry.h: a cube's bounding
+    // box diagonal, and the same however the mesh is turned), and the steps grow
+    // and shrink to match.
+    double tolerance = 0.0;
     int smoothing_steps = 10;       // Laplacian steps on ∇r per integration step
     double smoothing_weight = 0.5;  // how far each step moves ∇r toward its ring mean
     // Estimate normals and ∇r at the predicted middle of each step (second order)
@@ -66,6 +75,26 @@ struct Region {
 // k / steps, or `target` itself when that comes first.
 double next_time_on_grid(double time, double target, int steps);
 
+// The step control's constants: the first step's length, the bounds on a step's
+// length, and how much one step's length may grow or shrink the next's.
+struct StepControl {
+    static constexpr double kFirstStep = 1.0 / 32.0;
+    static constexpr double kLongestStep = 0.25;
+    static constexpr double kShortestStep = 1e-5;  // taken whatever its error
+    static constexpr double kMostGrowth = 2.5, kMostShrink = 0.2, kSafety = 0.9;
+    // The next step's length after a step of length h with estimated error
+    // `error` (the estimate grows as h², sec. "Error-controlled steps" of docs/method.md).
+    static double next_length(double h, double error, double tolerance);
+};
+
+// What the step control saw: its estimates are relative to the mesh's size (centred_diameter).
+struct StepErrors {
+    int rejected = 0;         // steps tried, estimated over the tolerance and tried again shorter
+    double largest = 0.0;     // the largest estimate of a step taken forward
+    double sum = 0.0;         // their sum: an estimate of the error at the time reached
+    int estimated_steps = 0;  // the steps taken forward with an estimate
+};
+
 // The error a non-finite position raises: step `step` (counted from 1) from time
 // `time` made input vertex `vertex` non-finite.
 NumericalError nonfinite_position(std::size_t vertex, int step, double time);
@@ -76,14 +105,29 @@ struct DeviceVertices {
     Vec3 origin{0.0};
 };
 
+// What one call of StepBackend::step did.
+struct StepResult {
+    bool taken = true;    // false: the estimate was over the bound and nothing moved
+    double error = -1.0;  // the step's estimated error / the mesh's size (< 0: none)
+};
+
 // One backend's steps of sec. 5. Deformation calls step() with the times of its grid.
 class StepBackend {
 public:
     virtual ~StepBackend() = default;
     virtual const char* name() const = 0;  // "cpu" or "gpu"
     // One RK4 step from `time` by `h` (negative: back), the `step`-th of the
-    // deformation. Throws nonfinite_position() when it can tell at once.
-    virtual void step(double time, double h, int step) = 0;
+    // deformation. A backend that estimates_error() estimates the step's error
+    // once ∇r is known at the step's middle, before it moves anything; when that
+    // is over `max_error` it returns {false, estimate} and the step may be tried
+    // again shorter. Throws nonfinite_position() when it can tell at once.
+    virtual StepResult step(double time, double h, int step, double max_error) = 0;
+    // Whether step() estimates its error (the surface field with midpoint ∇r);
+    // the step control needs it, and steps are fixed without.
+    virtual bool estimates_error() const { return false; }
+    // The times at which the motion's curve has a join (0 < t < 1): a step
+    // ends on each rather than straddle the kink in ċ.
+    virtual std::vector<double> motion_joins() const { return {}; }
     // Does now a piece of what the first step would do before it steps (the CPU:
     // the volume keeper and the fold repair built at rest; ∇r and the gauge at
     // the start), so that a caller can give each a frame of its own; true
@@ -118,6 +162,9 @@ public:
     bool prepare_first_step() { return backend_->prepare_first_step(); }
 
     double time() const { return time_; }
+    // Whether the steps are error-controlled (options().tolerance > 0 and a backend that estimates).
+    bool error_controlled() const { return controlled_; }
+    const StepErrors& step_errors() const { return errors_; }
     // In the input's vertex order (the GPU reads them back once per advance).
     const std::vector<Vec3>& positions() const;
     const DeformationOptions& options() const { return options_; }
@@ -134,8 +181,20 @@ public:
 private:
     std::unique_ptr<StepBackend> backend_;
     DeformationOptions options_;
+    double next_time(double target, bool& controlled) const;
+    void note_step(double next, bool controlled, const StepResult& result);
+
     double time_ = 0.0;
     int steps_taken_ = 0;
+    // The error-controlled schedule: every time reached forward, ascending (0
+    // first); a step forward from grid_.back() is controlled, any other step
+    // runs between the times already on it.
+    bool controlled_ = false;
+    std::vector<double> grid_{0.0};
+    std::vector<double> joins_;
+    double next_length_ = StepControl::kFirstStep;
+    bool just_rejected_ = false;
+    StepErrors errors_;
     std::vector<double> step_ms_;
     mutable bool checked_ = true;  // positions() has been checked finite since the last advance
 };

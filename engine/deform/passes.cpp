@@ -257,26 +257,18 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
     });
 }
 
-void predict_midpoints(const MotionSample& start, double h, const std::vector<double>& s, const RegionParts& parts,
+void predict_midpoints(const StepMotion& half, const std::vector<double>& s, const RegionParts& parts,
                        const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions,
                        std::vector<Vec3>& midpoints) {
     if (midpoints.size() != positions.size()) midpoints = positions;
-    for_each_vertex(parts.inner, [&](std::uint32_t v) {
-        midpoints[v] = positions[v] + 0.5 * h * inner_velocity(start, positions[v]);
-    });
-    const PreparedMotion m(start);
-    for_each_block(parts.blend.size(), [&](std::size_t first, int count) {
-        BlendLanes lanes;
-        Lanes3 velocity, midpoint;
-        lanes.gather(parts.blend, first, count, s, gradients, positions);
-        deformation_velocities(m, count, lanes.one_minus_b, lanes.grad_b, lanes.position, velocity);
-        add_scaled(count, lanes.position, 0.5 * h, velocity, midpoint);
-        scatter(midpoint, parts.blend, first, count, midpoints);
-    });
+    deformation_step(half, s, parts, gradients, positions, midpoints);
 }
 
 StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
-    return {motion.at(t), motion.at(t + 0.5 * h), motion.at(t + h), h};
+    // A step that starts or ends on a join of the curve takes the segment it runs on.
+    const JoinSide start = h >= 0.0 ? JoinSide::after : JoinSide::before;
+    const JoinSide end = h >= 0.0 ? JoinSide::before : JoinSide::after;
+    return {motion.at(t, start), motion.at(t + 0.5 * h), motion.at(t + h, end), h};
 }
 
 void deformation_step(const StepMotion& motion, const std::vector<double>& s, const RegionParts& parts,

@@ -71,23 +71,24 @@ struct SmoothingScratch {
 void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts, int steps, double weight,
                       bool tangent, std::vector<Vec3>& gradients, SmoothingScratch& scratch);
 
-// Midpoint predictor: where each vertex will be half-way through the step, by one
-// Euler half step along the field with the previous step's gradients. The normal,
-// gradient and smoothing passes then run on these positions, so ∇r is taken at
-// the middle of the step instead of its start: second order in time instead of
-// first, and integrating back retraces the way forward (see docs/method.md).
-// Writes the inner and blend vertices; the outer region does not move, so a new
-// `midpoints` array starts as a copy of `positions` and an old one must hold them.
-void predict_midpoints(const MotionSample& start, double h, const std::vector<double>& s, const RegionParts& parts,
-                       const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions,
-                       std::vector<Vec3>& midpoints);
-
 // The motion at the three RK4 times of one step from t to t + h.
 struct StepMotion {
     MotionSample start, middle, end;  // at t, t + h/2, t + h
     double h = 0.0;
     static StepMotion sample(const InnerMotion& motion, double t, double h);
 };
+
+// Midpoint predictor: where each vertex will be half-way through the step, by
+// one RK4 step of half the step's length (`half`: the motion at t, t + h/4 and
+// t + h/2) along the field with the previous step's gradients. The normal,
+// gradient and smoothing passes then run on these positions, so ∇r is taken at
+// the middle of the step instead of its start: second order in time instead of
+// first, and integrating back retraces the way forward (see docs/method.md).
+// Writes the inner and blend vertices; the outer region does not move, so a new
+// `midpoints` array starts as a copy of `positions` and an old one must hold them.
+void predict_midpoints(const StepMotion& half, const std::vector<double>& s, const RegionParts& parts,
+                       const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions,
+                       std::vector<Vec3>& midpoints);
 
 // Deformation pass: one RK4 step of every vertex along v + ṽ (eqs. 1–4, 9–14)
 // with r = s and ∇r = `gradients`, both held fixed over the step, from `from` into

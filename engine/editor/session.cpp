@@ -169,6 +169,7 @@ void EditorSession::open_mesh(const std::string& spec) {
     doc.region.spec.g_min = 0.1 * d;
     doc.region.spec.g_max = 0.45 * d;
     doc.scene.options.smoothing_steps = 40;  // as the paper-figure scenes: smoother blends
+    doc.scene.options.tolerance = kSceneTolerance;  // error-controlled steps, as a scene file without "steps"
     const Vec3 c0 = p[top];
     doc.scene.motion.curve.bezier = {c0, c0 + d * Vec3(0.0, 0.0, 0.12), c0 + d * Vec3(0.08, 0.0, 0.22),
                                      c0 + d * Vec3(0.25, 0.0, 0.25)};

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "base/error.h"
+#include "deform/step_error.h"
 #include "deform/volume_keeper.h"
 #include "field/stream_gauge.h"
 #include "gpu/gl.h"
@@ -57,6 +58,7 @@ public:
           options_(options),
           passes_(checked_size(positions), checked_s(region, positions.size()), rings) {
         set_up_default_scheme(positions, region.s, rings);
+        size_ = centred_diameter(positions);
     }
 
     const char* name() const override { return "gpu"; }
@@ -67,13 +69,38 @@ public:
     }
     FoldRepairStats fold_repairs() const override { return fold_repair_.stats(); }
 
-    void step(double time, double h, int) override {
+    // With the stream gauge's fit, whose samples it reads back anyway, the step
+    // estimates its error as the CPU's does (CpuSteps::estimate_error).
+    bool estimates_error() const override { return options_.fit_stream_gauge && options_.gradients_at_midpoint; }
+    std::vector<double> motion_joins() const override { return motion_.joins(); }
+
+    StepResult step(double time, double h, int, double max_error) override {
+        StepResult result;
         StepMotion motion = StepMotion::sample(motion_, time, h);
-        if (!options_.gradients_at_midpoint || !have_gradients_) estimate_surface_gradients(At::positions);
-        if (options_.fit_stream_gauge) motion.start.gauge = gauge_fit_->gauge_for(motion.start);
+        if (!options_.gradients_at_midpoint || !have_gradients_) {
+            estimate_surface_gradients(At::positions);
+            gradient_time_ = time;
+        }
         if (options_.gradients_at_midpoint) {
-            passes_.predict_midpoints(motion.start, h);
+            StepMotion half = StepMotion::sample(motion_, time, 0.5 * h);
+            if (options_.fit_stream_gauge)
+                for (MotionSample* m : {&half.start, &half.middle, &half.end}) m->gauge = gauge_fit_->gauge_for(*m);
+            passes_.predict_midpoints(half);
+            const std::vector<Vec3> predicted_gradients = sample_gradients_;
+            const double span = std::abs(time + 0.5 * h - gradient_time_);
             estimate_surface_gradients(At::midpoints);
+            gradient_time_ = time + 0.5 * h;
+            if (estimates_error()) {
+                motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
+                result.error =
+                    sampled_step_error(motion.middle, h, span, sample_positions_.size(),
+                                       [&](std::size_t j) {
+                                           return StepErrorSample{sample_positions_[j], sample_s_[j],
+                                                                  predicted_gradients[j], sample_gradients_[j]};
+                                       }) /
+                    size_;
+                if (result.error > max_error) return {false, result.error};
+            }
         }
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
@@ -91,6 +118,7 @@ public:
             }
             positions_valid_ = false;
         }
+        return result;
     }
 
     const std::vector<Vec3>& positions() const override {
@@ -157,6 +185,8 @@ private:
     DeformationOptions options_;
     GpuPasses passes_;
     bool have_gradients_ = false;
+    double gradient_time_ = 0.0;  // the time the gradient texture was estimated for
+    double size_ = 0.0;           // centred_diameter at rest
     mutable std::vector<Vec3> positions_;
     mutable bool positions_valid_ = false;
     // The default scheme's state; order_, s_ and rings_ in the CPU's work order.

@@ -89,7 +89,6 @@ GpuPasses::GpuPasses(const std::vector<Vec3>& positions, const std::vector<doubl
     normal_program_ = fullscreen_program("normal pass", "normal.frag", false);
     gradient_program_ = fullscreen_program("gradient pass", "gradient.frag", false);
     smooth_program_ = fullscreen_program("smoothing pass", "smooth.frag", false);
-    predict_program_ = fullscreen_program("midpoint predictor", "predict.frag", true);
     deform_program_ = fullscreen_program("deformation pass", "deform.frag", true);
     check_gl("setting up the GPU passes");
 }
@@ -157,16 +156,15 @@ void GpuPasses::smooth_gradients(int steps, double weight, bool tangent) {
     }
 }
 
-void GpuPasses::predict_midpoints(const MotionSample& start, double h) {
-    bind_mesh(predict_program_);
-    set_motion(predict_program_, "u_start", start, origin_);
-    predict_program_.set("u_h", static_cast<float>(h));
-    vertex_[current_].texture.bind(kUnitPositions);
-    gradient_[current_gradient_].texture.bind(kUnitGradients);
-    draw(midpoint_);
-}
+void GpuPasses::predict_midpoints(const StepMotion& half) { draw_deformation(half, midpoint_); }
 
 void GpuPasses::deformation_step(const StepMotion& motion) {
+    draw_deformation(motion, vertex_[1 - current_]);
+    current_ = 1 - current_;
+}
+
+// The deformation pass (deform.frag) from the current positions into `target`.
+void GpuPasses::draw_deformation(const StepMotion& motion, const Target& target) const {
     bind_mesh(deform_program_);
     set_motion(deform_program_, "u_start", motion.start, origin_);
     set_motion(deform_program_, "u_middle", motion.middle, origin_);
@@ -174,8 +172,7 @@ void GpuPasses::deformation_step(const StepMotion& motion) {
     deform_program_.set("u_h", static_cast<float>(motion.h));
     vertex_[current_].texture.bind(kUnitPositions);
     gradient_[current_gradient_].texture.bind(kUnitGradients);
-    draw(vertex_[1 - current_]);
-    current_ = 1 - current_;
+    draw(target);
 }
 
 // ---- Beyond the paper: the default scheme's passes ----

@@ -1,5 +1,6 @@
 #pragma once
-// The four per-step passes of sec. 5 (plus the midpoint predictor) on the GPU,
+// The four per-step passes of sec. 5 (and the midpoint predictor, the
+// deformation pass over half a step) on the GPU,
 // one fragment shader each, with the names of their CPU counterparts in
 // engine/deform/passes.h. All state lives in textures laid out by TextureLayout:
 //
@@ -45,8 +46,9 @@ public:
     void estimate_gradients(At at);
     // Smoothing pass, `steps` times (ping-pong); s is taken from the vertex texture.
     void smooth_gradients(int steps, double weight, bool tangent);
-    // Midpoint predictor: midpoint texture from the positions and the current gradients.
-    void predict_midpoints(const MotionSample& start, double h);
+    // Midpoint predictor: the deformation pass over half the step (`half`), from the
+    // positions with the current gradients into the midpoint texture.
+    void predict_midpoints(const StepMotion& half);
     // Deformation pass: one RK4 step of the positions; the new positions become current.
     void deformation_step(const StepMotion& motion);
 
@@ -97,6 +99,7 @@ private:
     const Texture& source(At at) const;
     void bind_mesh(const Program& program) const;
     void draw(const Target& target) const;
+    void draw_deformation(const StepMotion& motion, const Target& target) const;
     std::vector<float> packed(const std::vector<Vec3>& xyz, bool with_s, const Vec3& origin) const;
     std::vector<Vec3> read(const Target& target, const Vec3& origin) const;
 
@@ -108,7 +111,7 @@ private:
     Texture rings_, neighbours_;
     Target vertex_[2], midpoint_, normal_, gradient_[2];
     int current_ = 0, current_gradient_ = 0;
-    Program normal_program_, gradient_program_, smooth_program_, predict_program_, deform_program_;
+    Program normal_program_, gradient_program_, smooth_program_, deform_program_;
     VertexArray empty_vao_;
     // Beyond the paper, each made by its set_ or measure_ call.
     Program sum_program_;

@@ -21,6 +21,16 @@ BoundingBox bounding_box(const std::vector<Vec3>& positions) {
     return box;
 }
 
+double centred_diameter(const std::vector<Vec3>& positions) {
+    if (positions.empty()) return 0.0;
+    Vec3 mean(0.0);
+    for (const Vec3& p : positions) mean += p;
+    mean /= double(positions.size());
+    double largest = 0.0;
+    for (const Vec3& p : positions) largest = std::max(largest, glm::length(p - mean));
+    return 2.0 * largest;
+}
+
 double signed_volume(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles) {
     // Sec. 7.2: sum over triangles of det(p0, p1, p2) / 6 (tetrahedron with the origin).
     double six_volume = 0.0;

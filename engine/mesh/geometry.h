@@ -10,6 +10,11 @@ namespace vfsd {
 
 BoundingBox bounding_box(const std::vector<Vec3>& positions);
 
+// Twice the largest distance of a position from their mean: the diagonal of a
+// cube's bounding box, and, unlike a bounding box's diagonal, the same however
+// the positions are turned (0 for none).
+double centred_diameter(const std::vector<Vec3>& positions);
+
 // Signed volume as sec. 7.2 defines it: the sum of the signed volumes of the
 // tetrahedra spanned by each triangle and the origin. Exact for closed meshes;
 // for open meshes it depends on the origin (see is_closed in the validation report).

@@ -161,6 +161,14 @@ MotionSpec parse_motion(const Reader& in, const json& j) {
 
 void parse_options(const Reader& in, const json& j, Scene& scene) {
     if (j.contains("steps")) scene.options.steps = in.integer(j["steps"], "steps", 1, 1000000);
+    // A file that gives neither takes error-controlled steps; one that gives
+    // only "steps" keeps the fixed steps it asks for.
+    scene.options.tolerance = j.contains("steps") ? 0.0 : kSceneTolerance;
+    if (j.contains("tolerance")) {
+        scene.options.tolerance = in.number(j["tolerance"], "tolerance");
+        if (!(scene.options.tolerance >= 0.0 && scene.options.tolerance <= 0.1))
+            in.fail("tolerance", "expected 0 (fixed steps) to 0.1 of the diagonal");
+    }
     if (j.contains("smoothing_steps")) scene.options.smoothing_steps = in.integer(j["smoothing_steps"], "smoothing_steps", 0, 10000);
     if (j.contains("stream_gauge")) {
         const json& gauge = j["stream_gauge"];
@@ -295,6 +303,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
     if (m.stream_origin) j["stream_origin"] = to_json(*m.stream_origin);
     else j["stream_origin"] = "curve";
     j["steps"] = scene.options.steps;
+    j["tolerance"] = scene.options.tolerance;
     j["smoothing_steps"] = scene.options.smoothing_steps;
     j["stream_gauge"] = scene.options.fit_stream_gauge ? "fit" : "paper";
     j["smoothing"] = scene.options.tangent_smoothing ? "tangent" : "space";
@@ -325,7 +334,11 @@ const std::vector<SceneKey>& scene_keys() {
          "true"},
         {"fold_refinement",
          "how many times vfsd deform refines the mesh where triangles folded anyway and runs again; 0: never", "6"},
-        {"steps", "RK4 steps from t = 0 to 1", "250"},
+        {"steps", "fixed RK4 steps from t = 0 to 1, where tolerance is 0", "250"},
+        {"tolerance",
+         "error-controlled steps: each step's estimated error at most this fraction of the bounding box diagonal; 0: "
+         "the fixed steps",
+         "0.0005 (0 when the file gives steps)"},
         {"smoothing_steps", "Laplacian smoothing steps on the gradient per integration step", "10"},
         {"target_time", "where vfsd deform stops, in [0, 1]", "1"},
         {"up", "the axis the editors and vfsd render show up: \"z\" or \"y\" (a Y-up mesh)", "\"z\""},

@@ -51,6 +51,10 @@ struct RegionSpec {
     std::vector<double> s;               // field: given per vertex
 };
 
+// The tolerance of a scene file that gives neither "tolerance" nor "steps"
+// (DeformationOptions::tolerance, relative to the diagonal).
+constexpr double kSceneTolerance = 5e-4;
+
 struct Scene {
     std::string mesh;  // a path (resolved against the scene's folder) or builtin:NAME
     RegionSpec region;

@@ -1,0 +1,162 @@
+// vfsd bench --latency [--quick] [--only TEXT] [--tolerance T | --steps N] [--reference-steps N] [--repeat N]
+//                     [--no-reference]
+//
+// What a user waits for after an edit: the scene prepared (the mesh's rings, s,
+// the motion) and its deformation integrated from t = 0 to 1 with
+// error-controlled steps (deform/deformation.h), on the 53k and 2M cylinders'
+// bench bend and on the paper-figure scenes the docs measure. Against a
+// reference of N fixed steps (default 2000) on the same prepared scene: the
+// largest and the 99.9th-percentile vertex distance, over the mesh's size
+// (centred_diameter, the tolerance's unit), and
+// the folds of both. Timings are medians over --repeat runs. --steps N runs N
+// fixed steps instead, to compare schemes at equal steps.
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+
+#include "base/error.h"
+#include "base/parallel.h"
+#include "cli/commands.h"
+#include "deform/quality.h"
+#include "io/mesh_file.h"
+#include "mesh/geometry.h"
+#include "scene/prepared_scene.h"
+
+namespace vfsd::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+struct LatencyCase {
+    std::string name;
+    std::function<PreparedScene()> prepare;
+    bool reference = true;  // a 2M-vertex reference of 2000 steps takes minutes: skipped
+};
+
+// vfsd bench's bend of a built-in cylinder, as a prepared scene.
+PreparedScene bench_scene(const std::string& spec) {
+    PreparedScene p;
+    p.file.mesh = load_mesh(spec);
+    p.rings = build_vertex_rings(p.file.mesh);
+    BezierCurve curve;
+    bench_region_and_curve(p.file.mesh, p.region, curve);
+    p.motion = InnerMotion::along_curve(curve, InnerMotionMode::Rotation, 0.0, 0.0);
+    return p;
+}
+
+std::vector<LatencyCase> cases(bool quick) {
+    std::vector<LatencyCase> list;
+    if (quick) {
+        list.push_back({"box bend", [] { return bench_scene("builtin:box:8"); }, true});
+        return list;
+    }
+    list.push_back({"cylinder 53k bend", [] { return bench_scene("builtin:cylinder:163"); }, true});
+    const std::string scenes = std::string(VFSD_SOURCE_DIR) + "/assets/scenes/";
+    for (const char* file : {"fig11-armadillo-arm-painted.json", "armadillo-claw-raised.json",
+                             "fig14-cylinder-knot.json", "fig13-bar-handle-bend.json"}) {
+        const std::string path = scenes + file;
+        const Scene scene = load_scene(path);
+        std::error_code ec;
+        if (scene.mesh.rfind("builtin:", 0) != 0 && !std::filesystem::exists(scene.mesh, ec)) {
+            std::printf("(%s skipped: its mesh is not here; scripts/get-cgal-meshes)\n", file);
+            continue;
+        }
+        list.push_back({std::filesystem::path(file).stem().string(), [scene] { return prepare_scene(scene); }, true});
+    }
+    list.push_back({"cylinder 2M bend", [] { return bench_scene("builtin:cylinder:1000"); }, false});
+    return list;
+}
+
+struct Run {
+    std::vector<Vec3> positions;
+    int steps = 0;
+    StepErrors errors;
+    double ms = 0.0;
+};
+
+Run integrate(const PreparedScene& p, const DeformationOptions& options) {
+    Run run;
+    const auto start = Clock::now();
+    Deformation d(p.file.mesh.positions, p.rings, p.region, p.motion, options);
+    run.steps = d.advance(1.0);
+    run.positions = d.positions();
+    run.ms = ms_since(start);
+    run.errors = d.step_errors();
+    return run;
+}
+
+std::size_t folds(const PreparedScene& p, const std::vector<Vec3>& positions) {
+    return flipped_triangle_list(p.file.mesh.positions, positions, p.file.mesh.triangles).size();
+}
+
+}  // namespace
+
+int run_latency_bench(const Args& args) {
+    args.expect({"latency", "quick", "only", "tolerance", "steps", "reference-steps", "repeat", "no-reference"}, 0, 0);
+    const bool quick = args.has("quick");
+    const double tolerance = args.get_number("tolerance", kSceneTolerance);
+    if (!(tolerance > 0.0 && tolerance <= 0.1)) throw UsageError("--tolerance expects more than 0, at most 0.1");
+    const int fixed_steps = static_cast<int>(args.get_number("steps", 0));
+    if (args.has("steps") && fixed_steps < 1) throw UsageError("--steps expects a positive integer");
+    const int reference_steps = static_cast<int>(args.get_number("reference-steps", quick ? 200 : 2000));
+    if (reference_steps < 1) throw UsageError("--reference-steps expects a positive integer");
+    const int repeat = std::max(1, static_cast<int>(args.get_number("repeat", quick ? 1 : 3)));
+    const std::string only = args.has("only") ? args.get("only") : "";
+    if (fixed_steps > 0)
+        std::printf("edit to final shape, t = 0 to 1, %d fixed steps, %u threads; reference: %d fixed steps\n",
+                    fixed_steps, parallel_thread_count(), reference_steps);
+    else
+        std::printf(
+            "edit to final shape, t = 0 to 1, tolerance %g of the mesh's size, %u threads; reference: %d "
+            "fixed steps\n",
+            tolerance, parallel_thread_count(), reference_steps);
+    std::printf("%-30s %9s %9s %9s %6s %8s %11s %11s %12s\n", "scene", "vertices", "prepare", "integrate", "steps",
+                "rejected", "max dev", "99.9% dev", "folds / ref");
+    for (const LatencyCase& c : cases(quick)) {
+        if (!only.empty() && c.name.find(only) == std::string::npos) continue;
+        std::vector<double> prepare_ms, integrate_ms;
+        PreparedScene p;
+        Run run;
+        for (int r = 0; r < repeat; ++r) {
+            const auto start = Clock::now();
+            p = c.prepare();
+            prepare_ms.push_back(ms_since(start));
+            DeformationOptions options = p.scene.options;
+            options.tolerance = fixed_steps > 0 ? 0.0 : tolerance;
+            if (fixed_steps > 0) options.steps = fixed_steps;
+            run = integrate(p, options);
+            integrate_ms.push_back(run.ms);
+        }
+        const double size = centred_diameter(p.file.mesh.positions);
+        char deviation[2][32] = {"-", "-"}, fold_text[32];
+        std::snprintf(fold_text, sizeof fold_text, "%zu / -", folds(p, run.positions));
+        if (c.reference && !args.has("no-reference")) {
+            DeformationOptions fixed = p.scene.options;
+            fixed.tolerance = 0.0;
+            fixed.steps = reference_steps;
+            const Run reference = integrate(p, fixed);
+            std::vector<double> distance(run.positions.size());
+            for (std::size_t v = 0; v < distance.size(); ++v)
+                distance[v] = glm::length(run.positions[v] - reference.positions[v]) / size;
+            std::sort(distance.begin(), distance.end());
+            std::snprintf(deviation[0], sizeof deviation[0], "%.2e", distance.back());
+            std::snprintf(deviation[1], sizeof deviation[1], "%.2e", distance[distance.size() * 999 / 1000]);
+            std::snprintf(fold_text, sizeof fold_text, "%zu / %zu", folds(p, run.positions),
+                          folds(p, reference.positions));
+        }
+        std::printf("%-30s %9zu %6.1f ms %6.1f ms %6d %8d %11s %11s %12s\n", c.name.c_str(), p.file.mesh.vertex_count(),
+                    median(prepare_ms), median(integrate_ms), run.steps, run.errors.rejected, deviation[0],
+                    deviation[1], fold_text);
+        std::fflush(stdout);
+    }
+    return kExitOk;
+}
+
+}  // namespace vfsd::cli

@@ -1,0 +1,119 @@
+// Error-controlled steps (deform/deformation.h) on real scenes: the result
+// stays within reach of a run of many fixed steps, in far fewer steps; the GPU
+// takes them as the CPU does; a scene file chooses them unless it gives steps.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+
+#include "deform/quality.h"
+#include "gpu/gpu_deformation.h"
+#include "mesh/geometry.h"
+#include "scene/prepared_scene.h"
+#include "test_gpu_support.h"
+
+using namespace vfsd;
+
+namespace {
+
+// The paper-figure scenes on small meshes: the box bend and twist, the bar, and
+// the knot of fig. 14 (nine curve segments, eight joins) on a coarse cylinder.
+std::vector<Scene> small_scenes() {
+    const std::filesystem::path dir = std::filesystem::path(VFSD_SOURCE_DIR) / "assets" / "scenes";
+    std::vector<Scene> scenes;
+    for (const char* file : {"fig04-box-bend.json", "fig05-box-bend-twist.json", "fig15-box-twist-along-curve.json",
+                             "fig14-cylinder-knot.json"})
+        scenes.push_back(load_scene((dir / file).string()));
+    scenes.back().mesh = "builtin:cylinder:40";
+    return scenes;
+}
+
+struct Outcome {
+    std::vector<Vec3> positions;
+    int steps = 0;
+    StepErrors errors;
+};
+
+Outcome run(const PreparedScene& p, DeformationOptions options, bool gpu = false) {
+    Deformation d = gpu ? gpu::make_gpu_deformation(p.file.mesh.positions, p.rings, p.region, p.motion, options)
+                        : Deformation(p.file.mesh.positions, p.rings, p.region, p.motion, options);
+    Outcome o;
+    o.steps = d.advance(1.0);
+    o.positions = d.positions();
+    o.errors = d.step_errors();
+    return o;
+}
+
+double largest_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double largest = 0.0;
+    for (std::size_t v = 0; v < a.size(); ++v) largest = std::max(largest, glm::length(a[v] - b[v]));
+    return largest;
+}
+
+}  // namespace
+
+TEST_CASE("error-controlled steps come within a few tolerances of 400 fixed steps, in a quarter of the steps or fewer",
+          "[deformation][step-control]") {
+    for (const Scene& scene : small_scenes()) {
+        const PreparedScene p = prepare_scene(scene);
+        const double size = centred_diameter(p.file.mesh.positions);
+        DeformationOptions fixed = scene.options;
+        fixed.tolerance = 0.0;
+        fixed.steps = 400;
+        const Outcome reference = run(p, fixed);
+        for (const double tolerance : {1e-3, 2.5e-4}) {
+            DeformationOptions controlled = scene.options;
+            controlled.tolerance = tolerance;
+            const Outcome o = run(p, controlled);
+            const double deviation = largest_distance(o.positions, reference.positions) / size;
+            INFO(scene.mesh << ", tolerance " << tolerance << ": " << o.steps << " steps, " << o.errors.rejected
+                            << " rejected, deviation " << deviation);
+            CHECK(deviation < 2.0 * tolerance);
+            CHECK(o.steps <= fixed.steps / 4);
+            CHECK(o.errors.largest <= tolerance);
+            const auto folds = [&](const std::vector<Vec3>& x) {
+                return flipped_triangle_list(p.file.mesh.positions, x, p.file.mesh.triangles).size();
+            };
+            CHECK(folds(o.positions) <= folds(reference.positions));
+        }
+    }
+}
+
+TEST_CASE("the GPU takes error-controlled steps as the CPU does", "[gpu][step-control]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    for (const Scene& scene : small_scenes()) {
+        const PreparedScene p = prepare_scene(scene);
+        DeformationOptions options = scene.options;
+        options.tolerance = 1e-3;
+        const Outcome cpu = run(p, options), gpu = run(p, options, true);
+        const double deviation =
+            largest_distance(cpu.positions, gpu.positions) / centred_diameter(p.file.mesh.positions);
+        INFO(scene.mesh << ": cpu " << cpu.steps << " steps, gpu " << gpu.steps << ", deviation " << deviation);
+        CHECK(std::abs(cpu.steps - gpu.steps) <= 2);
+        CHECK(deviation < options.tolerance);
+        CHECK(gpu.errors.largest <= options.tolerance);
+    }
+}
+
+TEST_CASE("a scene file takes error-controlled steps unless it gives steps", "[scene][step-control]") {
+    const auto parse = [](const char* text) { return parse_scene(parse_scene_json(text), ".").options; };
+    const char* base = R"({"mesh": "builtin:box", "region": {"kind": "field", "s": []},
+                           "curve": {"bezier": [[0,0,0],[0,0,1],[0,1,1],[1,1,1]]}})";
+    const auto with = [&](const std::string& extra) {
+        std::string text = base;
+        return parse((text.substr(0, text.size() - 1) + extra + "}").c_str());
+    };
+    CHECK(with("").tolerance == kSceneTolerance);
+    CHECK(with(R"(, "steps": 300)").tolerance == 0.0);
+    CHECK(with(R"(, "steps": 300)").steps == 300);
+    CHECK(with(R"(, "steps": 300, "tolerance": 1e-4)").tolerance == 1e-4);
+    CHECK(with(R"(, "tolerance": 0)").tolerance == 0.0);
+    CHECK_THROWS_WITH(with(R"(, "tolerance": -1)"), Catch::Contains("tolerance"));
+    CHECK_THROWS_WITH(with(R"(, "tolerance": "fine")"), Catch::Contains("tolerance"));
+    // What a file keeps: written and read again, the same control.
+    Scene scene = parse_scene(parse_scene_json(R"({"mesh": "builtin:box", "region": {"kind": "field", "s": []},
+                           "curve": {"bezier": [[0,0,0],[0,0,1],[0,1,1],[1,1,1]]}})"),
+                              ".");
+    CHECK(parse_scene(scene_to_json(scene), ".").options.tolerance == kSceneTolerance);
+    scene.options.tolerance = 0.0;
+    CHECK(parse_scene(scene_to_json(scene), ".").options.tolerance == 0.0);
+}
