@@ -314,3 +314,41 @@ TEST_CASE("EditorSession: a scene opens playing to its target_time and finds its
         CHECK(EditorSession::main_file({dir.file("c/bar.obj"), dir.file("b/scene.json")}) == dir.file("b/scene.json"));
     }
 }
+
+TEST_CASE("EditorSession: an edit shows its result when it is computed, play and scrubbing show the way",
+          "[editor][session][step-control]") {
+    EditorSession session;
+    session.open_mesh("builtin:box:6");  // a mesh opened: error-controlled steps
+    session.set_target_time(1.0);
+    run_to_target(session);
+    const std::vector<Vec3> before = session.positions();
+    REQUIRE(before != session.base_positions());
+    CHECK(session.deformation()->error_controlled());
+
+    // A curve edit starts again from t = 0; until the run is back at t = 1 the
+    // last result stays on show, whatever steps are taken meanwhile.
+    session.move_control_point(3, session.control_points()[3] + Vec3(0.05, 0.1, 0.0));
+    CHECK(session.holding_result());
+    CHECK(session.positions() == before);
+    while (session.prepare_run()) {
+    }
+    CHECK(session.update(1) == 1);
+    CHECK(session.time() > 0.0);
+    CHECK(session.time() < 1.0);
+    CHECK(session.positions() == before);
+    // A second edit while it catches up keeps the last finished result.
+    session.move_control_point(3, session.control_points()[3] + Vec3(0.0, 0.05, 0.0));
+    CHECK(session.positions() == before);
+    run_to_target(session);
+    CHECK(!session.holding_result());
+    CHECK(session.positions() == session.deformation()->positions());
+    CHECK(session.positions() != before);
+
+    // Scrubbing after an edit shows the way: positions follow the run's time.
+    session.move_control_point(3, session.control_points()[3] + Vec3(-0.05, 0.0, 0.0));
+    session.set_target_time(0.5);
+    CHECK(!session.holding_result());
+    run_to_target(session);
+    CHECK(session.time() == 0.5);
+    CHECK(session.positions() == session.deformation()->positions());
+}

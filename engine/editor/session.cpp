@@ -235,6 +235,7 @@ void EditorSession::replace_document(Document doc) {
     base_moved_stats();
     stats_.vertices = doc_.file.mesh.vertex_count();
     stats_.triangles = doc_.file.mesh.triangle_count();
+    held_.reset();
     drop_deformation();
     changed(mesh_replaced);
     refresh_curve_warnings();
@@ -299,7 +300,7 @@ void EditorSession::region_changed() {
     std::vector<std::string> warnings;
     region_ = build_region(region_spec(), doc_.file.mesh.positions, doc_.rings, warnings);
     region_warnings_ = std::move(warnings);
-    drop_deformation();
+    restart_after_edit();
     changed(region_edited);
     refresh_curve_warnings();
 }
@@ -461,7 +462,7 @@ void EditorSession::set_region_from_loops(const SurfaceLoop& inner, const Surfac
 
 void EditorSession::curve_changed() {
     motion_ = build_motion(doc_.scene.motion);
-    drop_deformation();
+    restart_after_edit();
     changed(motion_edited);
     refresh_curve_warnings();
 }
@@ -557,6 +558,7 @@ double EditorSession::time() const { return deformation_ ? deformation_->time() 
 void EditorSession::set_target_time(double t) { set_target(std::clamp(t, 0.0, 1.0)); }
 
 void EditorSession::set_target(double t) {
+    held_.reset();  // a new target: show the way there
     if (t == doc_.scene.target_time) return;
     doc_.scene.target_time = t;
     changed(target_moved);
@@ -577,6 +579,14 @@ void EditorSession::reset() {
 void EditorSession::set_force_cpu(bool cpu) {
     if (cpu == force_cpu_) return;
     force_cpu_ = cpu;
+    drop_deformation();
+}
+
+// An edit of the region or the curve: the run starts again from t = 0 and,
+// until it is back at the target, positions() keeps the shape the last run
+// ended in (or, after edits in quick succession, the last one that ended).
+void EditorSession::restart_after_edit() {
+    if (deformation_ && !held_ && time() > 0.0 && !moving()) held_ = deformation_->positions();
     drop_deformation();
 }
 
@@ -628,6 +638,7 @@ int EditorSession::update(int max_steps) {
     run_step([&] {
         ensure_deformation();
         taken = deformation_->advance(target_time(), max_steps);
+        if (!moving()) held_.reset();  // the edit's result is ready
         if (taken > 0) {
             changed(positions_moved);
             update_stats();
@@ -674,6 +685,7 @@ void EditorSession::update_stats() {
 }
 
 const std::vector<Vec3>& EditorSession::positions() const {
+    if (held_) return *held_;
     return deformation_ ? deformation_->positions() : doc_.file.mesh.positions;
 }
 
@@ -694,6 +706,7 @@ std::vector<std::string> EditorSession::warnings() const {
 
 void EditorSession::apply() {
     if (!deformation_ || time() == 0.0) return;
+    held_.reset();  // what is baked is the deformation at time()
     BakeChange bake;
     bake.before = doc_.file.mesh.positions;
     bake.after = positions();

@@ -174,7 +174,13 @@ public:
     const EditHistory& history() const { return history_; }
 
     // What to draw and pick on.
-    const std::vector<Vec3>& positions() const;  // at time(); base positions at t = 0
+    // At time(); base positions at t = 0. After an edit of the region or the
+    // curve at a target time > 0, the shape the last run ended in until the new
+    // run reaches the target (holding_result()): the editors show an edit's
+    // result when it is computed, not the way to it; play, scrubbing and the
+    // time slider show the way.
+    const std::vector<Vec3>& positions() const;
+    bool holding_result() const { return held_.has_value(); }
     const std::vector<Vec3>& base_positions() const { return doc_.file.mesh.positions; }
     const std::vector<Triangle>& triangles() const { return doc_.file.mesh.triangles; }
     const VertexRings& rings() const { return doc_.rings; }
@@ -256,6 +262,7 @@ private:
     void set_target(double t);
     void drop_deformation();
     void predict_backend();
+    void restart_after_edit();
     void ensure_deformation();
     void run_step(const std::function<void()>& work);
     void update_stats();
@@ -297,6 +304,7 @@ private:
     MotionSpec pending_curve_;
 
     std::optional<Deformation> deformation_;
+    std::optional<std::vector<Vec3>> held_;  // positions() while an edit's run catches up (restart_after_edit)
     SessionStats stats_;
     std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1, document_revision_ = 1;
     std::uint64_t positions_revision_ = 1;

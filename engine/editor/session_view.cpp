@@ -22,7 +22,7 @@ void SessionView::draw(const EditorSession& session, Camera& camera, const Viewp
     }
     // The GPU path's vertex texture as it is; the CPU path's positions uploaded on change.
     const std::optional<DeviceVertices> on_gpu =
-        session.deformation() ? session.deformation()->device_vertices() : std::nullopt;
+        session.deformation() && !session.holding_result() ? session.deformation()->device_vertices() : std::nullopt;
     if (!on_gpu && drawn_revision_ != session.revision()) {
         render::update_vertex_texture(cpu_vertices_, session.positions(), session.s());
         drawn_revision_ = session.revision();
