@@ -1,5 +1,9 @@
 // vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR] [--coarse]
-//              [--worst K] [--steps N] [--threads N] [--only INDEX]
+//              [--worst K] [--steps N | --tolerance T [--reference-steps N]] [--threads N] [--only INDEX]
+//
+// --tolerance runs error-controlled steps (deform/deformation.h); with
+// --reference-steps each scene also runs that many fixed steps, and the
+// report gives the largest vertex distance between the two and their folds.
 //
 // Generates K scenes nobody tuned (engine/scene/battery.h: built-in and given
 // meshes, placed at random, regions of every kind, curves, handles, twists of
@@ -13,6 +17,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -46,12 +52,59 @@ struct Outcome {
     std::vector<double> s;           // on rest
     int refinements = 0;             // runs started again on a refined mesh (scene/scene_run.h)
     std::size_t vertices_added = 0;  // by those refinements
+    int steps = 0, rejected = 0;     // the kept run's steps, and those rejected by the step control
+    // With --reference-steps: the largest and the 99.9th-percentile distance to that
+    // many fixed steps' result, over the mesh's size (−1: the two runs refined
+    // differently), and its folds; the same distances for --baseline-steps.
+    double reference_distance = -1.0, reference_distance_p999 = -1.0;
+    double baseline_distance = -1.0, baseline_distance_p999 = -1.0;
+    std::size_t reference_folds = 0;
 
     bool failed() const {
         return !error.empty() || quality.flipped_triangles > 0 || quality.outer_max_displacement != 0.0 ||
                quality.inner_rigid_residual > 1e-9 || quality.nonfinite_vertices > 0;
     }
 };
+
+// The scene's result in `steps` fixed steps (nothing when it fails).
+std::optional<std::vector<Vec3>> run_fixed_steps(const Outcome& o, int steps, std::size_t* folds) {
+    Scene scene = o.battery.scene;
+    scene.options.tolerance = 0.0;
+    scene.options.steps = steps;
+    PreparedScene prepared = prepare_scene(scene, o.battery.mesh);
+    try {
+        const SceneRun run = run_scene(prepared);
+        std::vector<Vec3> result = run.deformation->positions();
+        if (folds)
+            *folds = flipped_triangle_list(prepared.file.mesh.positions, result, prepared.file.mesh.triangles).size();
+        return result;
+    } catch (const NumericalError&) {
+        return std::nullopt;
+    }
+}
+
+// The largest and the 99.9th-percentile distance between two results over the
+// rest mesh's size; −1 when they differ in their vertices (refined differently).
+std::pair<double, double> result_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b,
+                                          const TriangleMesh& rest) {
+    if (a.size() != b.size() || a.empty()) return {-1.0, -1.0};
+    std::vector<double> distance(a.size());
+    for (std::size_t v = 0; v < a.size(); ++v) distance[v] = glm::length(a[v] - b[v]);
+    std::sort(distance.begin(), distance.end());
+    const double size = centred_diameter(rest.positions);
+    return {distance.back() / size, distance[distance.size() * 999 / 1000] / size};
+}
+
+// How far the outcome's result, and the scene's in `baseline_steps` fixed steps
+// (0: none), are from `reference_steps` fixed steps.
+void compare_with_fixed_steps(Outcome& o, int reference_steps, int baseline_steps) {
+    const auto reference = run_fixed_steps(o, reference_steps, &o.reference_folds);
+    if (!reference) return;
+    std::tie(o.reference_distance, o.reference_distance_p999) = result_distance(o.result, *reference, o.rest);
+    if (baseline_steps <= 0) return;
+    if (const auto baseline = run_fixed_steps(o, baseline_steps, nullptr))
+        std::tie(o.baseline_distance, o.baseline_distance_p999) = result_distance(*baseline, *reference, o.rest);
+}
 
 Outcome run_battery_scene(BatteryScene b) {
     Outcome o;
@@ -67,6 +120,8 @@ Outcome run_battery_scene(BatteryScene b) {
         o.result = d.positions();
         o.ms_per_step = median(d.step_milliseconds());
         o.repairs = d.fold_repairs();
+        o.steps = static_cast<int>(d.step_milliseconds().size());
+        o.rejected = d.step_errors().rejected;
     } catch (const NumericalError& e) {
         o.error = e.what();
         o.result = prepared.file.mesh.positions;
@@ -105,6 +160,13 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"fold_repair_vertex_moves", o.repairs.vertex_moves},
             {"fold_repair_max_shift_over_diagonal", o.repair_shift_over_diagonal},
             {"refinements", o.refinements},
+            {"steps", o.steps},
+            {"rejected_steps", o.rejected},
+            {"reference_distance_over_size", o.reference_distance},
+            {"reference_distance_over_size_p999", o.reference_distance_p999},
+            {"baseline_distance_over_size", o.baseline_distance},
+            {"baseline_distance_over_size_p999", o.baseline_distance_p999},
+            {"reference_flipped_triangles", o.reference_folds},
             {"vertices_added", o.vertices_added},
             {"warnings", o.warnings},
             {"error", o.error},
@@ -198,7 +260,14 @@ int positive_int(const Args& args, const char* option, int fallback) {
 }  // namespace
 
 int run_battery(const Args& args) {
-    args.expect({"out", "seed", "count", "mesh-dir", "mesh", "coarse", "worst", "steps", "threads", "only", "amplitude", "scheme"}, 0, 0);
+    args.expect({"out", "seed", "count", "mesh-dir", "mesh", "coarse", "worst", "steps", "tolerance", "reference-steps",
+                 "baseline-steps", "threads", "only", "amplitude", "scheme"},
+                0, 0);
+    const double tolerance = args.get_number("tolerance", 0.0);
+    if (!(tolerance >= 0.0 && tolerance <= 0.1)) throw UsageError("--tolerance expects 0 to 0.1");
+    if (tolerance > 0.0 && args.has("steps")) throw UsageError("--steps and --tolerance exclude each other");
+    const int reference_steps = positive_int(args, "reference-steps", 0);
+    const int baseline_steps = positive_int(args, "baseline-steps", 0);
     if (!args.has("out") || args.get("out").empty()) throw UsageError("--out DIR is required");
     const int seed = positive_int(args, "seed", 1), count = positive_int(args, "count", 30);
     const int worst = positive_int(args, "worst", 5), steps = positive_int(args, "steps", 0);
@@ -220,6 +289,7 @@ int run_battery(const Args& args) {
     for (int index = first; index < last; ++index) {
         BatteryScene b = generate_battery_scene(static_cast<std::uint64_t>(seed), index, sources, amplitude);
         if (steps > 0) b.scene.options.steps = steps;
+        b.scene.options.tolerance = tolerance;
         if (scheme == "paper") {  // secs. 5 and 6 as printed, for comparison
             b.scene.options = paper_steps(b.scene.options);
             b.scene.options.tangent_smoothing = true;
@@ -228,25 +298,53 @@ int run_battery(const Args& args) {
         if (scheme == "no-repair" || scheme == "no-refinement") b.scene.options.fold_refinements = 0;
         if (scheme == "no-repair") b.scene.options.repair_folds = false;  // the flow alone
         outcomes.push_back(run_battery_scene(std::move(b)));
-        const Outcome& o = outcomes.back();
+        Outcome& o = outcomes.back();
+        if (reference_steps > 0 && o.error.empty()) compare_with_fixed_steps(o, reference_steps, baseline_steps);
         std::printf(
             "%-48s %7zu v  folds %5zu (reversed %5zu)  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step  "
-            "repaired %3zu steps (%.1e D)  refined %d (+%zu v)%s%s\n",
+            "repaired %3zu steps (%.1e D)  refined %d (+%zu v)  %d steps (%d rejected)%s%s%s\n",
             o.battery.name.c_str(), o.battery.mesh.mesh.vertex_count(), o.quality.flipped_triangles,
             o.quality.reversed_triangles, o.quality.volume_change_percent, o.quality.outer_max_displacement,
             o.quality.inner_rigid_residual, o.ms_per_step, o.repairs.steps_repaired, o.repair_shift_over_diagonal,
-            o.refinements, o.vertices_added, o.error.empty() ? "" : "  error: ", o.error.c_str());
+            o.refinements, o.vertices_added, o.steps, o.rejected,
+            o.reference_distance >= 0.0
+                ? ("  " + std::to_string(reference_steps) + " fixed steps: " + std::to_string(o.reference_distance) +
+                   " (99.9 %: " + std::to_string(o.reference_distance_p999) + ") of the size away, " +
+                   std::to_string(o.reference_folds) + " folds" +
+                   (o.baseline_distance >= 0.0
+                        ? "; " + std::to_string(baseline_steps) + " steps: " + std::to_string(o.baseline_distance) +
+                              " (99.9 %: " + std::to_string(o.baseline_distance_p999) + ")"
+                        : std::string()))
+                      .c_str()
+                : "",
+            o.error.empty() ? "" : "  error: ", o.error.c_str());
         std::fflush(stdout);
     }
 
     nlohmann::json scenes = nlohmann::json::array();
-    std::vector<double> volume, ms;
+    std::vector<double> volume, ms, step_counts;
+    double farthest = 0.0, farthest_p999 = 0.0, baseline_farthest = 0.0, baseline_farthest_p999 = 0.0;
+    std::size_t within = 0, baseline_within = 0;  // largest distance at most 1e-3 of the size
+    std::size_t over_reference_folds = 0, compared = 0;
     std::size_t folded = 0, folds = 0, failed = 0, repaired = 0, reversed_scenes = 0, reversed = 0, refined = 0;
     double outer = 0.0, inner = 0.0, shift = 0.0;
     for (const Outcome& o : outcomes) {
         scenes.push_back(outcome_json(o));
         volume.push_back(o.quality.volume_error_percent);
         ms.push_back(o.ms_per_step);
+        step_counts.push_back(o.steps);
+        if (o.reference_distance >= 0.0) {
+            ++compared;
+            farthest = std::max(farthest, o.reference_distance);
+            farthest_p999 = std::max(farthest_p999, o.reference_distance_p999);
+            within += o.reference_distance <= 1e-3;
+        }
+        if (o.baseline_distance >= 0.0) {
+            baseline_farthest = std::max(baseline_farthest, o.baseline_distance);
+            baseline_farthest_p999 = std::max(baseline_farthest_p999, o.baseline_distance_p999);
+            baseline_within += o.baseline_distance <= 1e-3;
+        }
+        over_reference_folds += reference_steps > 0 && o.quality.flipped_triangles > o.reference_folds;
         folded += o.quality.flipped_triangles > 0;
         folds += o.quality.flipped_triangles;
         reversed_scenes += o.quality.reversed_triangles > 0;
@@ -275,7 +373,20 @@ int run_battery(const Args& args) {
                                     {"ms_per_step_median", percentile(ms, 0.5)},
                                     {"scenes_repaired", repaired},
                                     {"fold_repair_max_shift_over_diagonal", shift},
-                                    {"scenes_refined", refined}};
+                                    {"scenes_refined", refined},
+                                    {"tolerance", tolerance},
+                                    {"steps_median", percentile(step_counts, 0.5)},
+                                    {"steps_max", percentile(step_counts, 1.0)},
+                                    {"reference_steps", reference_steps},
+                                    {"scenes_compared", compared},
+                                    {"reference_distance_over_size_max", farthest},
+                                    {"reference_distance_over_size_p999_max", farthest_p999},
+                                    {"scenes_within_1e-3", within},
+                                    {"baseline_steps", baseline_steps},
+                                    {"baseline_distance_over_size_max", baseline_farthest},
+                                    {"baseline_distance_over_size_p999_max", baseline_farthest_p999},
+                                    {"baseline_scenes_within_1e-3", baseline_within},
+                                    {"scenes_folding_more_than_reference", over_reference_folds}};
     write_file_atomically((dir / "battery.json").string(),
                           nlohmann::json{{"summary", summary}, {"scenes", scenes}}.dump(1) + "\n");
     write_csv(dir / "battery.csv", outcomes);
@@ -298,6 +409,18 @@ int run_battery(const Args& args) {
         summary["volume_error_percent_median"].get<double>(), summary["volume_error_percent_p95"].get<double>(),
         summary["volume_error_percent_max"].get<double>(), outer, inner, summary["ms_per_step_median"].get<double>(),
         repaired, shift, refined);
+    std::printf("steps: median %g, most %g%s\n", percentile(step_counts, 0.5), percentile(step_counts, 1.0),
+                tolerance > 0.0 ? " (error-controlled)" : "");
+    if (reference_steps > 0)
+        std::printf(
+            "against %d fixed steps: %zu scenes compared (the others refined differently), %zu within 1e-3 of "
+            "the size; largest distance %.3g (99.9th percentile at most %.3g); %zu scenes fold more than it\n",
+            reference_steps, compared, within, farthest, farthest_p999, over_reference_folds);
+    if (baseline_steps > 0)
+        std::printf(
+            "%d fixed steps against them: %zu within 1e-3; largest distance %.3g (99.9th percentile at most "
+            "%.3g)\n",
+            baseline_steps, baseline_within, baseline_farthest, baseline_farthest_p999);
     return failed == 0 ? kExitOk : kExitInput;
 }
 
