@@ -117,3 +117,27 @@ TEST_CASE("a scene file takes error-controlled steps unless it gives steps", "[s
     scene.options.tolerance = 0.0;
     CHECK(parse_scene(scene_to_json(scene), ".").options.tolerance == 0.0);
 }
+
+TEST_CASE("RK4's own error on the rigid motion shrinks as h^5 and vanishes for a straight move",
+          "[deformation][step-control]") {
+    const auto error = [](const InnerMotion& motion, double t, double h) {
+        return rigid_step_error(StepMotion::sample(motion, t, h), StepMotion::sample(motion, t, 0.5 * h),
+                                StepMotion::sample(motion, t + 0.5 * h, 0.5 * h), 1.0);
+    };
+    // A turn of 3 radians about a fixed point, and a curve that bends and twists.
+    const InnerMotion turn = InnerMotion::rotation_about(Vec3(0.2, -0.1, 0.3), Vec3(0.0, 3.0, 0.0));
+    const InnerMotion bend =
+        InnerMotion::along_curve(BezierCurve({Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(0.5, 0.2, 1.5), Vec3(1.5, 0.3, 1.5)}),
+                                 InnerMotionMode::Rotation, 0.0, 2.0);
+    for (const InnerMotion* motion : {&turn, &bend}) {
+        const double coarse = error(*motion, 0.3, 0.2), fine = error(*motion, 0.3, 0.1);
+        CAPTURE(coarse, fine);
+        CHECK(coarse > 1e-7);
+        CHECK(coarse / fine > 16.0);  // 2^5 = 32 for an error of order h^5
+        CHECK(coarse / fine < 64.0);
+    }
+    const InnerMotion straight =
+        InnerMotion::along_curve(BezierCurve({Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(0, 0, 2), Vec3(0, 0, 3)}),
+                                 InnerMotionMode::Translation, 0.0, 0.0);
+    CHECK(error(straight, 0.3, 0.5) < 1e-12);
+}

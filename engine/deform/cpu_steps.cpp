@@ -73,7 +73,7 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
             gradient_time_ = time + 0.5 * h;
             if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(midpoints_);
             if (options_.fit_stream_gauge) motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
-            result.error = estimate_error(motion.middle, h, span);
+            result.error = std::max(estimate_error(motion.middle, h, span), motion_error(motion, half, time, h));
             // Not taken: the next try predicts its midpoints with the ∇r and the
             // gauge found here, as a step does with its predecessor's.
             if (result.error > max_error) return {false, result.error};
@@ -105,6 +105,14 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     }
     input_order_current_ = false;
     return result;
+}
+
+// RK4's error on the rigid motion over the step (rigid_step_error) within the
+// mesh's size of c(t), relative to that size.
+double CpuSteps::motion_error(const StepMotion& full, const StepMotion& first_half, double time, double h) const {
+    StepMotion second_half = StepMotion::sample(motion_, time + 0.5 * h, 0.5 * h);
+    for (MotionSample* m : {&second_half.start, &second_half.middle, &second_half.end}) *m = frame_.to_local(*m);
+    return rigid_step_error(full, first_half, second_half, size_) / size_;
 }
 
 // The step's estimated error, relative to the mesh's size (centred_diameter): how far the step would

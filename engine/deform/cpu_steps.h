@@ -41,6 +41,7 @@ private:
     void estimate_surface_gradients(const std::vector<Vec3>& at);
     void estimate_at_start(double time);
     double estimate_error(const MotionSample& middle, double h, double span) const;
+    double motion_error(const StepMotion& full, const StepMotion& first_half, double time, double h) const;
     bool build_keepers();
     GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
 

@@ -287,6 +287,19 @@ void deformation_step(const StepMotion& motion, const std::vector<double>& s, co
     });
 }
 
+double rigid_step_error(const StepMotion& full, const StepMotion& first_half, const StepMotion& second_half,
+                        double reach) {
+    const AffineStep one = rigid_rk4_step(full), a = rigid_rk4_step(first_half), b = rigid_rk4_step(second_half);
+    double largest = 0.0;
+    for (int axis = 0; axis < 3; ++axis)
+        for (const double side : {-reach, reach}) {
+            Vec3 x = full.start.position;
+            x[axis] += side;
+            largest = std::max(largest, glm::length(one(x) - b(a(x))));
+        }
+    return largest;
+}
+
 void deformation_step(const StepMotion& motion, const SphereTool& tool, std::vector<Vec3>& positions) {
     const double width = tool.r_outer - tool.r_inner;
     for (Vec3& position : positions) {

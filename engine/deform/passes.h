@@ -97,6 +97,16 @@ void predict_midpoints(const StepMotion& half, const std::vector<double>& s, con
 void deformation_step(const StepMotion& motion, const std::vector<double>& s, const RegionParts& parts,
                       const std::vector<Vec3>& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to);
 
+// RK4's own error over a step on the inner region's rigid motion, by step
+// doubling: the largest distance between the step's map (`full`, from t by h)
+// and two steps of half its length (`first_half`, `second_half`), over the six
+// points `reach` from c(t) along the axes (the maps are affine: that bounds the
+// ball of radius `reach` about c(t) to within √3). The ∇r estimate of
+// deform/step_error.h does not see it; on a long step of a large turn it is
+// what errs.
+double rigid_step_error(const StepMotion& full, const StepMotion& first_half, const StepMotion& second_half,
+                        double reach);
+
 // The implicit sphere tool of VFSD [23] as region: r = |x − centre| with
 // thresholds r_inner < r_outer, evaluated at every RK4 stage (no mesh needed).
 struct SphereTool {

@@ -99,6 +99,9 @@ public:
                                                                   predicted_gradients[j], sample_gradients_[j]};
                                        }) /
                     size_;
+                // RK4's own error on the rigid motion (CpuSteps::motion_error).
+                const StepMotion second_half = StepMotion::sample(motion_, time + 0.5 * h, 0.5 * h);
+                result.error = std::max(result.error, rigid_step_error(motion, half, second_half, size_) / size_);
                 if (result.error > max_error) return {false, result.error};
             }
         }
