@@ -73,10 +73,12 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
             gradient_time_ = time + 0.5 * h;
             if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(midpoints_);
             if (options_.fit_stream_gauge) motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
-            result.error = std::max(estimate_error(motion.middle, h, span), motion_error(motion, half, time, h));
-            // Not taken: the next try predicts its midpoints with the ∇r and the
-            // gauge found here, as a step does with its predecessor's.
-            if (result.error > max_error) return {false, result.error};
+            if (std::isfinite(max_error)) {  // only the step control asks (its estimate costs ~0.1 ms)
+                result.error = std::max(estimate_error(motion.middle, h, span), motion_error(motion, half, time, h));
+                // Not taken: the next try predicts its midpoints with the ∇r and the
+                // gauge found here, as a step does with its predecessor's.
+                if (result.error > max_error) return {false, result.error};
+            }
         }
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
@@ -96,8 +98,7 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     const bool affine_test = FoldRepair::affine_test_due(time, time + h);
     for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
         fold_repair_.repair(positions_, rings_, affine_test && cycle == 0, cycle == 0);
-        if (!fold_repair_.acted()) break;
-        if (!volume_.active()) break;
+        if (!fold_repair_.acted() || !volume_.active()) break;
         for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
             ring_area_vectors(positions_, rings_, parts_.blend, area_vectors_);
             volume_restored_ += std::abs(volume_.restore(positions_, area_vectors_));

@@ -13,7 +13,7 @@ namespace vfsd {
 void check_options(const DeformationOptions& options) {
     if (options.steps < 1) throw InputError("steps must be at least 1");
     if (!(options.tolerance >= 0.0 && options.tolerance <= 0.1))
-        throw InputError("tolerance must be 0 (fixed steps) to 0.1 of the diagonal");
+        throw InputError("tolerance must be 0 (fixed steps) to 0.1 of the mesh's size");
     if (options.smoothing_steps < 0) throw InputError("smoothing_steps must not be negative");
     if (options.fold_refinements < 0 || options.fold_refinements > kMaxFoldRefinements)
         throw InputError("fold_refinement must be 0 to " + std::to_string(kMaxFoldRefinements));

@@ -90,9 +90,11 @@ struct StepControl {
 // What the step control saw: its estimates are relative to the mesh's size (centred_diameter).
 struct StepErrors {
     int rejected = 0;         // steps tried, estimated over the tolerance and tried again shorter
-    double largest = 0.0;     // the largest estimate of a step taken forward
-    double sum = 0.0;         // their sum: an estimate of the error at the time reached
-    int estimated_steps = 0;  // the steps taken forward with an estimate
+    // Over the error-controlled steps taken (each once: forward beyond the times
+    // reached; steps back and retraced ones are not estimated).
+    double largest = 0.0;     // the largest estimate
+    double sum = 0.0;         // their sum: an estimate of the error at the furthest time reached
+    int estimated_steps = 0;  // the steps estimated
 };
 
 // The error a non-finite position raises: step `step` (counted from 1) from time
@@ -117,10 +119,11 @@ public:
     virtual ~StepBackend() = default;
     virtual const char* name() const = 0;  // "cpu" or "gpu"
     // One RK4 step from `time` by `h` (negative: back), the `step`-th of the
-    // deformation. A backend that estimates_error() estimates the step's error
-    // once ∇r is known at the step's middle, before it moves anything; when that
-    // is over `max_error` it returns {false, estimate} and the step may be tried
-    // again shorter. Throws nonfinite_position() when it can tell at once.
+    // deformation. With a finite `max_error`, a backend that estimates_error()
+    // estimates the step's error once ∇r is known at the step's middle, before
+    // it moves anything; when that is over `max_error` it returns {false,
+    // estimate} and the step may be tried again shorter (an infinite one: no
+    // estimate, error −1). Throws nonfinite_position() when it can tell at once.
     virtual StepResult step(double time, double h, int step, double max_error) = 0;
     // Whether step() estimates its error (the surface field with midpoint ∇r);
     // the step control needs it, and steps are fixed without.

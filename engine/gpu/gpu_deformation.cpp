@@ -1,5 +1,6 @@
 #include "gpu/gpu_deformation.h"
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -90,7 +91,7 @@ public:
             const double span = std::abs(time + 0.5 * h - gradient_time_);
             estimate_surface_gradients(At::midpoints);
             gradient_time_ = time + 0.5 * h;
-            if (estimates_error()) {
+            if (estimates_error() && std::isfinite(max_error)) {
                 motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
                 result.error =
                     sampled_step_error(motion.middle, h, span, sample_positions_.size(),

@@ -12,7 +12,7 @@
 // Needs scripts/get-cgal-meshes (scripts/test runs it).
 import fs from 'node:fs';
 import path from 'node:path';
-import { openPage, outDir, check, cpuSeconds } from './harness.mjs';
+import { openPage, outDir, check, cpuSeconds, recordFrames } from './harness.mjs';
 
 const mesh = path.resolve('assets/cgal/armadillo.off');
 if (!fs.existsSync(mesh)) throw new Error(`${mesh} is absent: run scripts/get-cgal-meshes`);
@@ -108,16 +108,8 @@ try {
   const last = curve.length - 1;
   const above = [hand[0], hand[1] + 0.2 * d, hand[2]];
   const [[x0, y0], [x1, y1]] = await project([curve[last], above]);
-  // Drawn frames, and the main thread's long tasks (over 50 ms: a frame the page could not answer in).
-  await page.evaluate(() => {
-    window.frameTimes = [];
-    const frame = window.Module.vfsdFrame;
-    window.Module.vfsdFrame = (overlay) => { window.frameTimes.push(performance.now()); return frame(overlay); };
-    window.longTasks = [];
-    new PerformanceObserver((list) => {
-      for (const e of list.getEntries()) window.longTasks.push([e.startTime, e.duration]);
-    }).observe({ type: 'longtask' });
-  });
+  // Drawn frames, and the main thread's long tasks.
+  await recordFrames(page);
   await page.mouse.move(x0, y0);
   await page.mouse.down();
   await page.mouse.move(x1, y1, { steps: 8 });

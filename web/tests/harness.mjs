@@ -90,3 +90,18 @@ export function cpuSeconds(userData) {
   }
   return procs.filter((p) => mine.has(p.pid)).reduce((sum, p) => sum + p.cpu, 0);
 }
+
+// From now on, records in the page the times of the drawn frames (window.frameTimes)
+// and the main thread's long tasks, [start, duration] each (window.longTasks;
+// over 50 ms: a frame the page could not answer in).
+export async function recordFrames(page) {
+  await page.evaluate(() => {
+    window.frameTimes = [];
+    const frame = window.Module.vfsdFrame;
+    window.Module.vfsdFrame = (overlay) => { window.frameTimes.push(performance.now()); return frame(overlay); };
+    window.longTasks = [];
+    new PerformanceObserver((list) => {
+      for (const e of list.getEntries()) window.longTasks.push([e.startTime, e.duration]);
+    }).observe({ type: 'longtask' });
+  });
+}

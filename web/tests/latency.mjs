@@ -12,7 +12,7 @@ import { execFileSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { openPage } from './harness.mjs';
+import { openPage, recordFrames } from './harness.mjs';
 
 // Native: the scene deformed by `vfsd deform` with `threads` threads; its total_ms
 // (read, prepared, integrated) and steps.
@@ -41,15 +41,7 @@ for (const mesh of meshes) {
       // The edit: the curve's end moved sideways by a tenth of the diagonal.
       const moved = c.map((p, i) => (i === c.length - 1 ? [p[0], p[1] + 0.1 * s.diagonal, p[2]] : p));
       edited = { mesh, region, curve: { bezier: moved } };
-      await page.evaluate(() => {
-        window.frameTimes = [];
-        const frame = window.Module.vfsdFrame;
-        window.Module.vfsdFrame = (overlay) => { window.frameTimes.push(performance.now()); return frame(overlay); };
-        window.longTasks = [];
-        new PerformanceObserver((list) => {
-          for (const e of list.getEntries()) window.longTasks.push(e.duration);
-        }).observe({ type: 'longtask' });
-      });
+      await recordFrames(page);
       const start = await page.evaluate(() => performance.now());
       await page.evaluate((scene) => window.vfsd.loadScene(scene), { region, curve: edited.curve, target_time: 1 });
       await page.waitForFunction(() => {
@@ -58,7 +50,7 @@ for (const mesh of meshes) {
       }, null, { polling: 10, timeout: 300000 });
       const done = await page.evaluate(() => performance.now());
       const frames = await page.evaluate(() => window.frameTimes);
-      const tasks = await page.evaluate(() => window.longTasks);
+      const tasks = (await page.evaluate(() => window.longTasks)).map(([, ms]) => ms);
       const stats = await page.evaluate(() => window.vfsd.stats());
       if (stats.backend !== backend) throw new Error(`?backend=${backend} ran on ${stats.backend}`);
       let gap = 0;
