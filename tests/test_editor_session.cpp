@@ -212,8 +212,9 @@ TEST_CASE("EditorSession: each edit moves the revisions that follow what it chan
     run_to_target(session);  // time advancing is no change to the document
     CHECK(moved() == "view positions");
     const RegionSpec geodesic = session.region().spec;
-    session.set_geodesic_range(0.9 * geodesic.g_min, geodesic.g_max);  // s changes, back to the base positions
-    CHECK(moved() == "view positions curve document");  // the curve follows the new inner region
+    // s changes; the last result stays on show until the new run is back at t = 0.5
+    session.set_geodesic_range(0.9 * geodesic.g_min, geodesic.g_max);
+    CHECK(moved() == "view curve document");  // the curve follows the new inner region
     session.move_control_point(3, session.control_points()[3] + Vec3(0.1, 0.0, 0.0));  // nothing deformed yet
     CHECK(moved() == "view curve document");
     session.set_force_cpu(true);
@@ -327,15 +328,23 @@ TEST_CASE("EditorSession: an edit shows its result when it is computed, play and
 
     // A curve edit starts again from t = 0; until the run is back at t = 1 the
     // last result stays on show, whatever steps are taken meanwhile.
+    // The positions' revision (which a pick refits to) moves only when they do.
+    const std::uint64_t shown = session.positions_revision();
+    const SessionStats shown_stats = session.stats();
+    REQUIRE(shown_stats.volume_error_percent > 0.0);
     session.move_control_point(3, session.control_points()[3] + Vec3(0.05, 0.1, 0.0));
     CHECK(session.holding_result());
     CHECK(session.positions() == before);
+    CHECK(session.positions_revision() == shown);
     while (session.prepare_run()) {
     }
     CHECK(session.update(1) == 1);
     CHECK(session.time() > 0.0);
     CHECK(session.time() < 1.0);
     CHECK(session.positions() == before);
+    // The stats are those of the result on show, not of the run's way there.
+    CHECK(session.stats().volume_error_percent == shown_stats.volume_error_percent);
+    CHECK(session.stats().flipped_triangles == shown_stats.flipped_triangles);
     // A second edit while it catches up keeps the last finished result.
     session.move_control_point(3, session.control_points()[3] + Vec3(0.0, 0.05, 0.0));
     CHECK(session.positions() == before);
@@ -343,11 +352,16 @@ TEST_CASE("EditorSession: an edit shows its result when it is computed, play and
     CHECK(!session.holding_result());
     CHECK(session.positions() == session.deformation()->positions());
     CHECK(session.positions() != before);
+    CHECK(session.positions_revision() != shown);
+    CHECK(session.stats().volume_error_percent != shown_stats.volume_error_percent);
 
     // Scrubbing after an edit shows the way: positions follow the run's time.
     session.move_control_point(3, session.control_points()[3] + Vec3(-0.05, 0.0, 0.0));
+    session.update(1);
+    const std::uint64_t held = session.positions_revision();
     session.set_target_time(0.5);
     CHECK(!session.holding_result());
+    CHECK(session.positions_revision() != held);  // from the held result to the run's positions
     run_to_target(session);
     CHECK(session.time() == 0.5);
     CHECK(session.positions() == session.deformation()->positions());

@@ -296,7 +296,7 @@ void App::frame() {
     // While costly draws are skipped, frames that only integrate need not wait for the display.
     const bool timeouts = editor_->busy() && editor_->draws_costly();
     if (timeouts != timeouts_)
-        emscripten_set_main_loop_timing(timeouts ? EM_TIMING_SETTIMEOUT : EM_TIMING_RAF, timeouts ? 0 : 1);
+        emscripten_set_main_loop_timing(timeouts ? EM_TIMING_SETIMMEDIATE : EM_TIMING_RAF, timeouts ? 0 : 1);
     timeouts_ = timeouts;
     if (!dirty_ && !waiting_ && !editor_->busy()) pause();
 }

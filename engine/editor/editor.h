@@ -70,7 +70,7 @@ struct EditorOptions {
     // Per frame the deformation may take about this long, so the shell stays responsive;
     // where drawing is costly and skipped in some frames (FramePacer), up to max_frame_ms.
     double step_budget_ms = 15.0;
-    double max_frame_ms = 60.0;
+    double max_frame_ms = 30.0;
     bool force_cpu = false;  // the "force CPU" setting at start
 };
 

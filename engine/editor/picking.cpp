@@ -29,6 +29,12 @@ std::optional<SurfaceHit> pick_surface(const Ray& ray, const std::vector<Vec3>& 
 std::optional<SurfaceHit> SurfacePicker::pick(const Ray& ray, const std::vector<Vec3>& positions,
                                               const std::vector<Triangle>& triangles, std::uint64_t topology,
                                               std::uint64_t shape) {
+    follow(positions, triangles, topology, shape);
+    return surface_hit(bvh_.first_hit(ray, positions), ray, triangles);
+}
+
+void SurfacePicker::follow(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,
+                           std::uint64_t topology, std::uint64_t shape) {
     if (topology != topology_ || bvh_.triangle_count() != triangles.size()) {
         bvh_ = TriangleBvh(positions, triangles);
         topology_ = topology, shape_ = shape;
@@ -36,7 +42,6 @@ std::optional<SurfaceHit> SurfacePicker::pick(const Ray& ray, const std::vector<
         bvh_.refit(positions);
         shape_ = shape;
     }
-    return surface_hit(bvh_.first_hit(ray, positions), ray, triangles);
 }
 
 std::optional<std::size_t> pick_screen_point(const std::vector<Vec3>& points, double x, double y,

@@ -34,6 +34,9 @@ class SurfacePicker {
 public:
     std::optional<SurfaceHit> pick(const Ray& ray, const std::vector<Vec3>& positions,
                                    const std::vector<Triangle>& triangles, std::uint64_t topology, std::uint64_t shape);
+    // The hierarchy built or refit as the next pick would, without picking.
+    void follow(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles, std::uint64_t topology,
+                std::uint64_t shape);
 
 private:
     TriangleBvh bvh_;

@@ -239,6 +239,9 @@ void EditorSession::replace_document(Document doc) {
     drop_deformation();
     changed(mesh_replaced);
     refresh_curve_warnings();
+    // The picker's hierarchy now, with the rest of the opening, rather than in
+    // the first pick (a drag or a stroke; 22 ms at 82k triangles).
+    picker_.follow(positions(), triangles(), mesh_revision_, positions_revision_);
 }
 
 // The revisions' promises (session.h), kept in one place.
@@ -558,7 +561,14 @@ double EditorSession::time() const { return deformation_ ? deformation_->time() 
 void EditorSession::set_target_time(double t) { set_target(std::clamp(t, 0.0, 1.0)); }
 
 void EditorSession::set_target(double t) {
-    held_.reset();  // a new target: show the way there
+    if (held_) {  // a new target: show the way there, with its stats
+        held_.reset();
+        changed(positions_moved);
+        if (deformation_)
+            update_stats();
+        else
+            reset_stats();
+    }
     if (t == doc_.scene.target_time) return;
     doc_.scene.target_time = t;
     changed(target_moved);
@@ -593,16 +603,26 @@ void EditorSession::restart_after_edit() {
 void EditorSession::drop_deformation() {
     // The next deformation starts afresh: the last one's error goes with it.
     runtime_error_.clear();
-    if (deformation_) changed(positions_moved);  // back to the base positions
+    const bool deformed = static_cast<bool>(deformation_);
     deformation_.reset();
     stats_.ms_per_step = 0.0;
+    predict_backend();
+    // Unless the last result stays on show (positions() and its stats do not
+    // change, and a pick need not refit: every event of a curve drag restarts the
+    // run), back to the base positions.
+    if (held_) return;
+    if (deformed) changed(positions_moved);
+    reset_stats();
+}
+
+// The stats of the base positions, where the deformation starts.
+void EditorSession::reset_stats() {
     stats_.volume_error_percent = 0.0;
     stats_.flipped_triangles = 0;
     folded_.clear();
     stats_.first_fold_time = -1.0;
     stats_.volume_error_since_opened_percent = base_since_opened_.volume_error_percent;
     stats_.flipped_since_opened = base_since_opened_.flipped;
-    predict_backend();
 }
 
 // New base positions (opened, applied, or that undone): what the applies so far
@@ -671,7 +691,8 @@ void EditorSession::run_step(const std::function<void()>& work) {
 
 void EditorSession::update_stats() {
     stats_.ms_per_step = deformation_->ms_per_step();
-    if (doc_.file.mesh.vertex_count() > kLiveStatsVertexLimit && moving()) return;
+    // The stats are those of positions(): of the result on show while it is held.
+    if (held_ || (doc_.file.mesh.vertex_count() > kLiveStatsVertexLimit && moving())) return;
     const auto& now = deformation_->positions();
     const auto& mesh = doc_.file.mesh;
     const double volume = signed_volume(now, mesh.triangles);
@@ -754,6 +775,8 @@ void EditorSession::apply_edit(const Edit& edit, bool forward) {
         doc_.baked = forward ? true : b->baked_before;
         doc_.region = forward ? b->region_after : b->region_before;
         doc_.scene.motion = forward ? b->motion_after : b->motion_before;
+        held_.reset();  // new base positions: nothing of the last run stays on show
+        drop_deformation();
         diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
         base_moved_stats();
         changed(base_moved);

@@ -266,6 +266,7 @@ private:
     void ensure_deformation();
     void run_step(const std::function<void()>& work);
     void update_stats();
+    void reset_stats();
     void base_moved_stats();
 
     std::map<std::string, char> up_axis_by_type_;  // file extension -> up axis

@@ -86,14 +86,17 @@ void Renderer::upload_curve() {
         for (int i = 0; i <= kCurveSamples; ++i) curve.push_back(motion_.curve().at(double(i) / kCurveSamples).position);
     curve_point_count_ = static_cast<GLsizei>(curve.size());
     const std::vector<glm::vec3> curve_f = to_float(curve);
-    curve_points_ = Buffer(GL_ARRAY_BUFFER, curve_f.data(), curve_f.size() * sizeof(glm::vec3));
+    curve_points_.update(GL_ARRAY_BUFFER, curve_f.data(), curve_f.size() * sizeof(glm::vec3));
     bind_points(curve_vao_, curve_points_, nullptr);
 }
 
+// A drawn frame's (every frame of a curve drag): checked as one, since in WebGL
+// glGetError waits for the renderer to finish the last draw (in SwiftShader, 100 ms
+// at 41k vertices).
 void Renderer::set_motion(InnerMotion motion) {
     motion_ = std::move(motion);
     upload_curve();
-    check_gl("updating the curve");
+    check_gl_in_frame("updating the curve");
 }
 
 void Renderer::draw(const Texture& vertex_texture, const Camera& camera, int width, int height,
