@@ -1,15 +1,17 @@
-// vfsd bench --latency [--quick] [--only TEXT] [--tolerance T | --steps N] [--reference-steps N] [--repeat N]
-//                     [--no-reference]
+// vfsd bench --latency [--quick] [--only TEXT] [--scene FILE] [--tolerance T | --steps N] [--reference-steps N]
+//                     [--repeat N] [--threads N] [--no-reference]
 //
-// What a user waits for after an edit: the scene prepared (the mesh's rings, s,
-// the motion) and its deformation integrated from t = 0 to 1 with
-// error-controlled steps (deform/deformation.h), on the 53k and 2M cylinders'
-// bench bend and on the paper-figure scenes the docs measure. Against a
-// reference of N fixed steps (default 2000) on the same prepared scene: the
-// largest and the 99.9th-percentile vertex distance, over the mesh's size
-// (centred_diameter, the tolerance's unit), and
-// the folds of both. Timings are medians over --repeat runs. --steps N runs N
-// fixed steps instead, to compare schemes at equal steps.
+// What a user waits for after an edit, on the 53k and 2M cylinders' bench bend
+// and on the paper-figure scenes the docs measure (or on --scene FILE alone):
+// the mesh is open and its rings built (an editor has both; not timed), then
+// - a curve edit: the motion built, the deformation made and integrated from
+//   t = 0 to 1 with error-controlled steps (deform/deformation.h);
+// - a region edit: s computed first (sec. 6), then the same.
+// Against a reference of N fixed steps (default 2000) on the same prepared scene:
+// the largest and the 99.9th-percentile vertex distance, over the mesh's size
+// (centred_diameter, the tolerance's unit), and the folds of both. Timings are
+// medians over --repeat runs. --steps N runs N fixed steps instead, to compare
+// schemes at equal steps.
 
 #include <algorithm>
 #include <chrono>
@@ -34,30 +36,76 @@ double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// A mesh as an editor holds it: read, with its rings.
+struct OpenMesh {
+    Scene scene;  // the scene file's, or the default options for the bench bend
+    bool bench_bend = false;
+    MeshFile file;
+    VertexRings rings;
+};
+
 struct LatencyCase {
     std::string name;
-    std::function<PreparedScene()> prepare;
+    std::function<OpenMesh()> open;
+    // The region (s) on the open mesh: what a region edit computes.
+    std::function<Region(const OpenMesh&, BezierCurve&)> region;
     bool reference = true;  // a 2M-vertex reference of 2000 steps takes minutes: skipped
 };
 
-// vfsd bench's bend of a built-in cylinder, as a prepared scene.
-PreparedScene bench_scene(const std::string& spec) {
+// vfsd bench's bend of a built-in cylinder.
+LatencyCase bench_case(const std::string& name, const std::string& spec, bool reference) {
+    LatencyCase c;
+    c.name = name;
+    c.open = [spec] {
+        OpenMesh m;
+        m.scene.mesh = spec;
+        m.bench_bend = true;
+        m.file.mesh = load_mesh(spec);
+        m.rings = build_vertex_rings(m.file.mesh);
+        return m;
+    };
+    c.region = [](const OpenMesh& m, BezierCurve& curve) {
+        Region region;
+        bench_region_and_curve(m.file.mesh, region, curve);
+        return region;
+    };
+    c.reference = reference;
+    return c;
+}
+
+LatencyCase scene_case(const std::string& path) {
+    LatencyCase c;
+    c.name = std::filesystem::path(path).stem().string();
+    c.open = [path] {
+        OpenMesh m;
+        m.scene = load_scene(path);
+        m.file = load_mesh_file(m.scene.mesh);
+        m.rings = build_vertex_rings(m.file.mesh);
+        return m;
+    };
+    c.region = [](const OpenMesh& m, BezierCurve&) {
+        std::vector<std::string> warnings;
+        return build_region(m.scene.region, m.file.mesh.positions, m.rings, warnings);
+    };
+    return c;
+}
+
+// The scene ready to integrate, from the open mesh and the region: the motion
+// built (the bench bend's along its curve, with the default options).
+PreparedScene prepare(const OpenMesh& m, Region region, const BezierCurve& curve) {
+    if (!m.bench_bend) return prepare_scene(m.scene, m.file, m.rings, std::move(region));
     PreparedScene p;
-    p.file.mesh = load_mesh(spec);
-    p.rings = build_vertex_rings(p.file.mesh);
-    BezierCurve curve;
-    bench_region_and_curve(p.file.mesh, p.region, curve);
+    p.file = m.file;
+    p.rings = m.rings;
+    p.region = std::move(region);
     p.motion = InnerMotion::along_curve(curve, InnerMotionMode::Rotation, 0.0, 0.0);
     return p;
 }
 
-std::vector<LatencyCase> cases(bool quick) {
-    std::vector<LatencyCase> list;
-    if (quick) {
-        list.push_back({"box bend", [] { return bench_scene("builtin:box:8"); }, true});
-        return list;
-    }
-    list.push_back({"cylinder 53k bend", [] { return bench_scene("builtin:cylinder:163"); }, true});
+std::vector<LatencyCase> cases(bool quick, const std::string& scene) {
+    if (!scene.empty()) return {scene_case(scene)};
+    if (quick) return {bench_case("box bend", "builtin:box:8", true)};
+    std::vector<LatencyCase> list{bench_case("cylinder 53k bend", "builtin:cylinder:163", true)};
     const std::string scenes = std::string(VFSD_SOURCE_DIR) + "/assets/scenes/";
     for (const char* file : {"fig11-armadillo-arm-painted.json", "armadillo-claw-raised.json",
                              "fig14-cylinder-knot.json", "fig13-bar-handle-bend.json"}) {
@@ -68,9 +116,9 @@ std::vector<LatencyCase> cases(bool quick) {
             std::printf("(%s skipped: its mesh is not here; scripts/get-cgal-meshes)\n", file);
             continue;
         }
-        list.push_back({std::filesystem::path(file).stem().string(), [scene] { return prepare_scene(scene); }, true});
+        list.push_back(scene_case(path));
     }
-    list.push_back({"cylinder 2M bend", [] { return bench_scene("builtin:cylinder:1000"); }, false});
+    list.push_back(bench_case("cylinder 2M bend", "builtin:cylinder:1000", false));
     return list;
 }
 
@@ -78,16 +126,13 @@ struct Run {
     std::vector<Vec3> positions;
     int steps = 0;
     StepErrors errors;
-    double ms = 0.0;
 };
 
 Run integrate(const PreparedScene& p, const DeformationOptions& options) {
     Run run;
-    const auto start = Clock::now();
     Deformation d(p.file.mesh.positions, p.rings, p.region, p.motion, options);
     run.steps = d.advance(1.0);
     run.positions = d.positions();
-    run.ms = ms_since(start);
     run.errors = d.step_errors();
     return run;
 }
@@ -99,7 +144,9 @@ std::size_t folds(const PreparedScene& p, const std::vector<Vec3>& positions) {
 }  // namespace
 
 int run_latency_bench(const Args& args) {
-    args.expect({"latency", "quick", "only", "tolerance", "steps", "reference-steps", "repeat", "no-reference"}, 0, 0);
+    args.expect({"latency", "quick", "only", "scene", "tolerance", "steps", "reference-steps", "repeat", "threads",
+                 "no-reference"},
+                0, 0);
     const bool quick = args.has("quick");
     const double tolerance = args.get_number("tolerance", kSceneTolerance);
     if (!(tolerance > 0.0 && tolerance <= 0.1)) throw UsageError("--tolerance expects more than 0, at most 0.1");
@@ -108,7 +155,14 @@ int run_latency_bench(const Args& args) {
     const int reference_steps = static_cast<int>(args.get_number("reference-steps", quick ? 200 : 2000));
     if (reference_steps < 1) throw UsageError("--reference-steps expects a positive integer");
     const int repeat = std::max(1, static_cast<int>(args.get_number("repeat", quick ? 1 : 3)));
+    if (args.has("threads")) {
+        const double threads = args.get_number("threads", 0);
+        if (threads < 1 || threads != static_cast<int>(threads))
+            throw UsageError("--threads expects a positive integer");
+        set_parallel_thread_limit(static_cast<unsigned>(threads));
+    }
     const std::string only = args.has("only") ? args.get("only") : "";
+    const std::string scene = args.has("scene") ? args.get("scene") : "";
     if (fixed_steps > 0)
         std::printf("edit to final shape, t = 0 to 1, %d fixed steps, %u threads; reference: %d fixed steps\n",
                     fixed_steps, parallel_thread_count(), reference_steps);
@@ -117,22 +171,27 @@ int run_latency_bench(const Args& args) {
             "edit to final shape, t = 0 to 1, tolerance %g of the mesh's size, %u threads; reference: %d "
             "fixed steps\n",
             tolerance, parallel_thread_count(), reference_steps);
-    std::printf("%-30s %9s %9s %9s %6s %8s %11s %11s %12s\n", "scene", "vertices", "prepare", "integrate", "steps",
-                "rejected", "max dev", "99.9% dev", "folds / ref");
-    for (const LatencyCase& c : cases(quick)) {
+    std::printf("%-30s %9s %9s %10s %11s %6s %8s %11s %11s %12s\n", "scene", "vertices", "region", "curve edit",
+                "region edit", "steps", "rejected", "max dev", "99.9% dev", "folds / ref");
+    for (const LatencyCase& c : cases(quick, scene)) {
         if (!only.empty() && c.name.find(only) == std::string::npos) continue;
-        std::vector<double> prepare_ms, integrate_ms;
+        const OpenMesh open = c.open();
+        std::vector<double> region_ms, curve_edit_ms, region_edit_ms;
         PreparedScene p;
         Run run;
         for (int r = 0; r < repeat; ++r) {
+            BezierCurve curve;
             const auto start = Clock::now();
-            p = c.prepare();
-            prepare_ms.push_back(ms_since(start));
+            Region region = c.region(open, curve);
+            region_ms.push_back(ms_since(start));
+            const auto edit = Clock::now();
+            p = prepare(open, std::move(region), curve);
             DeformationOptions options = p.scene.options;
             options.tolerance = fixed_steps > 0 ? 0.0 : tolerance;
             if (fixed_steps > 0) options.steps = fixed_steps;
             run = integrate(p, options);
-            integrate_ms.push_back(run.ms);
+            curve_edit_ms.push_back(ms_since(edit));
+            region_edit_ms.push_back(ms_since(start));
         }
         const double size = centred_diameter(p.file.mesh.positions);
         char deviation[2][32] = {"-", "-"}, fold_text[32];
@@ -151,9 +210,9 @@ int run_latency_bench(const Args& args) {
             std::snprintf(fold_text, sizeof fold_text, "%zu / %zu", folds(p, run.positions),
                           folds(p, reference.positions));
         }
-        std::printf("%-30s %9zu %6.1f ms %6.1f ms %6d %8d %11s %11s %12s\n", c.name.c_str(), p.file.mesh.vertex_count(),
-                    median(prepare_ms), median(integrate_ms), run.steps, run.errors.rejected, deviation[0],
-                    deviation[1], fold_text);
+        std::printf("%-30s %9zu %6.1f ms %7.1f ms %8.1f ms %6d %8d %11s %11s %12s\n", c.name.c_str(),
+                    p.file.mesh.vertex_count(), median(region_ms), median(curve_edit_ms), median(region_edit_ms),
+                    run.steps, run.errors.rejected, deviation[0], deviation[1], fold_text);
         std::fflush(stdout);
     }
     return kExitOk;
