@@ -1,5 +1,6 @@
 // vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--busy]
-// (vfsd bench --picking: command_bench_picking.cpp; --latency: command_bench_latency.cpp)
+// (vfsd bench --picking: command_bench_picking.cpp; --latency: command_bench_latency.cpp;
+// --gpu-schemes: command_bench_gpu.cpp)
 //
 // Reproduces the paper's timing table (sec. 7.1) with our models: per mesh,
 // a bending deformation of 250 RK4 steps with 10 smoothing steps, timed per
@@ -210,6 +211,21 @@ void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurv
         {c0, c0 + 0.3 * r * axis, c0 + 0.55 * r * axis + 0.15 * r * side, c0 + 0.7 * r * axis + 0.35 * r * side});
 }
 
+std::vector<std::string> paper_scene_files() {
+    std::vector<std::string> paths;
+    const std::string dir = std::string(VFSD_SOURCE_DIR) + "/assets/scenes/";
+    for (const char* file : {"fig11-armadillo-arm-painted.json", "armadillo-claw-raised.json",
+                             "fig14-cylinder-knot.json", "fig13-bar-handle-bend.json"}) {
+        const Scene scene = load_scene(dir + file);
+        std::error_code ec;
+        if (scene.mesh.rfind("builtin:", 0) == 0 || std::filesystem::exists(scene.mesh, ec))
+            paths.push_back(dir + file);
+        else
+            std::printf("(%s skipped: its mesh is not here; scripts/get-cgal-meshes)\n", file);
+    }
+    return paths;
+}
+
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v.empty() ? 0.0 : v[v.size() / 2];
@@ -218,6 +234,7 @@ double median(std::vector<double> v) {
 int run_bench(const Args& args) {
     if (args.has("picking")) return run_picking_bench(args);
     if (args.has("latency")) return run_latency_bench(args);
+    if (args.has("gpu-schemes")) return run_gpu_schemes_bench(args);
     args.expect({"quick", "only", "markdown", "data", "steps", "repeat", "no-gpu", "busy"}, 0, 0);
     const bool quick = args.has("quick");
     const int steps = static_cast<int>(args.get_number("steps", quick ? 10 : 250));

@@ -71,6 +71,9 @@ const std::vector<Command>& commands() {
          "usage: vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] "
          "[--no-gpu] [--busy]\n"
          "       vfsd bench --picking [--mesh SPEC] [--rays N]\n"
+         "       vfsd bench --latency [--quick] [--only TEXT | --scene FILE] [--tolerance T | --steps N]\n"
+         "                            [--reference-steps N] [--repeat N] [--threads N] [--no-reference]\n"
+         "       vfsd bench --gpu-schemes [--only TEXT | --scene FILE] [--steps N]\n"
          "\n"
          "Per mesh: a 45-degree bend of 250 RK4 steps (10 smoothing steps each), ms per step\n"
          "(median and spread over --repeat runs; the terminal also prints the mean) on one\n"
@@ -84,7 +87,16 @@ const std::vector<Command>& commands() {
          "vfsd bench --picking [--mesh SPEC] [--rays N] times picking the surface under a\n"
          "ray instead: building and refitting the bounding volume hierarchy, a pick\n"
          "through it (median over N rays, default 1000) and the loop over all triangles it\n"
-         "replaces, on builtin:cylinder:707 (1M vertices) unless --mesh says otherwise.\n",
+         "replaces, on builtin:cylinder:707 (1M vertices) unless --mesh says otherwise.\n"
+         "\n"
+         "vfsd bench --latency times edit to final shape: on an open mesh, a curve edit (the\n"
+         "motion built, integrated to t = 1 with error-controlled steps) and a region edit (s\n"
+         "first), against N fixed steps (default 2000): the largest and 99.9th-percentile\n"
+         "distance over the mesh's size, and the folds.\n"
+         "\n"
+         "vfsd bench --gpu-schemes times the GPU path: ms per step for sec. 5's passes, then\n"
+         "with the gauge fit, the volume keeper and the fold repair added, and edit to final\n"
+         "shape with error-controlled steps.\n",
          run_bench},
         {"battery", "deform generated scenes nobody tuned and measure folds, volume, rigidity",
          "usage: vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR | --mesh SPEC] [--coarse]\n"

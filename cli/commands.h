@@ -59,10 +59,16 @@ int run_bench(const Args& args);
 int run_battery(const Args& args);
 int run_picking_bench(const Args& args);  // vfsd bench --picking
 int run_latency_bench(const Args& args);  // vfsd bench --latency
+int run_gpu_schemes_bench(const Args& args);  // vfsd bench --gpu-schemes
 
 // vfsd bench's deformation of a mesh: the top 15 % of its longest axis bent by
 // about 45° (s = 0 there, 1 on the bottom 40 %, linear between).
 void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurve& curve);
+
+// The paper-figure scenes the benches time (assets/scenes/: fig. 11's arm, the
+// raised claw, figs. 14 and 13) whose meshes are here; each one missing is said
+// on stdout.
+std::vector<std::string> paper_scene_files();
 
 // The middle value (the upper one of an even count); 0 for none.
 double median(std::vector<double> values);

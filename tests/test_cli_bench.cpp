@@ -87,3 +87,40 @@ TEST_CASE("vfsd bench --latency --quick runs error-controlled steps and compares
     }
     CHECK(found);
 }
+
+TEST_CASE("vfsd bench --gpu-schemes times each scheme on the GPU path and an edit to final shape",
+          "[bench][cli][gpu]") {
+    vfsd::test::ScratchDir dir;
+    const std::string command = std::string("'") + VFSD_CLI_PATH + "' bench --gpu-schemes --steps 4 --scene '" +
+                                VFSD_SOURCE_DIR + "/assets/scenes/fig04-box-bend.json' > '" + dir.file("gpu.txt") +
+                                "' 2>&1";
+    const int status = std::system(command.c_str());
+    std::ifstream out(dir.file("gpu.txt"));
+    std::stringstream text;
+    text << out.rdbuf();
+    if (status != 0 && text.str().find("no headless GL context") != std::string::npos) {
+        WARN("no headless GL context here: " << text.str());
+        return;
+    }
+    REQUIRE(status == 0);
+    std::istringstream lines(text.str());
+    std::string line;
+    bool found = false;
+    while (std::getline(lines, line)) {
+        if (line.rfind("fig04-box-bend", 0) != 0) continue;
+        found = true;
+        // NAME  VERTICES  SEC5 ms  GAUGE ms  KEEPER ms  REPAIR ms (STEPS)  EDIT ms  STEPS  REJECTED
+        std::istringstream fields(line.substr(std::string("fig04-box-bend").size()));
+        double vertices = 0, scheme[4] = {0, 0, 0, 0}, edit = 0, steps = 0, rejected = -1;
+        std::string ms, repaired;
+        fields >> vertices >> scheme[0] >> ms >> scheme[1] >> ms >> scheme[2] >> ms >> scheme[3] >> ms >> repaired >>
+            edit >> ms >> steps >> rejected;
+        CHECK(vertices > 1000);
+        for (const double m : scheme) CHECK(m > 0.0);
+        CHECK(edit > 0.0);
+        CHECK(steps > 0);
+        CHECK(steps < 250);  // error-controlled: fewer than the scene's fixed steps
+        CHECK(rejected >= 0);
+    }
+    CHECK(found);
+}
