@@ -92,10 +92,12 @@ TEST_CASE("GPU deformation of every scene agrees with the CPU", "[gpu][scene]") 
                     q_gpu.flipped_triangles, cpu_ms / steps, gpu_ms / steps, test::gpu_context()->renderer().c_str());
         INFO(file);
         // The fold repair decides on triangles at the edge of folding: float and
-        // double may repair after one step more or fewer, which moves the repaired
+        // double may repair after one step more or fewer, or other vertices in the
+        // same steps (on an NVIDIA H100 the claw's 10 repaired steps moved 30
+        // vertices 1e-4 to 3.8e-4 of the diagonal apart), which moves the repaired
         // vertices by up to the repair's largest shift.
         const FoldRepairStats cpu_repairs = cpu.fold_repairs(), gpu_repairs = gpu.fold_repairs();
-        const double repair_shift = cpu_repairs.steps_repaired == gpu_repairs.steps_repaired
+        const double repair_shift = cpu_repairs.steps_repaired + gpu_repairs.steps_repaired == 0
                                         ? 0.0
                                         : std::max(cpu_repairs.max_shift, gpu_repairs.max_shift);
         INFO("repaired after " << cpu_repairs.steps_repaired << " (cpu) and " << gpu_repairs.steps_repaired
