@@ -149,7 +149,7 @@ private:
     bool dirty_ = true;    // draw the next frame
     GLsync fence_ = nullptr;  // set after a draw while the deformation runs, until the GPU finished it
     double fenced_at_ = 0.0;
-    bool timeouts_ = false;  // the main loop runs on timeouts, not animation frames
+    bool timeouts_ = false;  // the main loop runs on setImmediate, not animation frames
     bool waiting_ = false;  // the page waits for a drawn frame (its frame call said so)
     bool paused_ = false;  // the main loop waits for wake()
     bool autosave_timer_ = false;

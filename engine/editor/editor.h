@@ -68,7 +68,8 @@ struct EditorOptions {
     std::string autosave_directory;
     double autosave_seconds = 10.0;
     // Per frame the deformation may take about this long, so the shell stays responsive;
-    // where drawing is costly and skipped in some frames (FramePacer), up to max_frame_ms.
+    // where drawing is costly and skipped in some frames (FramePacer), up to max_frame_ms
+    // (with one step after it, a frame's task stays under 50 ms in the page).
     double step_budget_ms = 15.0;
     double max_frame_ms = 30.0;
     bool force_cpu = false;  // the "force CPU" setting at start
