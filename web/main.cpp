@@ -52,6 +52,10 @@ EM_JS(char*, vfsd_page_options, (), {
 EM_JS(int, vfsd_page_frame, (const char* overlay), {
     return Module.vfsdFrame && Module.vfsdFrame(UTF8ToString(overlay)) ? 1 : 0;
 });
+// A frame that did not draw while the deformation runs: the page's panel shows the progress.
+EM_JS(void, vfsd_page_progress, (), {
+    if (Module.vfsdProgress) Module.vfsdProgress();
+});
 EM_JS(void, vfsd_page_context, (int lost), {
     if (Module.vfsdContext) Module.vfsdContext(lost != 0);
 });
@@ -88,6 +92,8 @@ constexpr const char* kFiles = "/files";  // uploaded meshes and scenes, exports
 constexpr const char* kAutosave = "/autosave";  // IDBFS, kept in IndexedDB
 // A changed session is autosaved at most this often.
 constexpr double kAutosaveSeconds = 5.0;
+// While draws are skipped, the page's panel (time, progress) is refreshed this often.
+constexpr double kProgressMs = 100.0;
 
 // The renderer's real name (WEBGL_debug_renderer_info), else WebGL's masked one.
 std::string webgl_renderer(EMSCRIPTEN_WEBGL_CONTEXT_HANDLE gl, const std::string& masked) {
@@ -149,7 +155,8 @@ private:
     bool dirty_ = true;    // draw the next frame
     GLsync fence_ = nullptr;  // set after a draw while the deformation runs, until the GPU finished it
     double fenced_at_ = 0.0;
-    bool timeouts_ = false;  // the main loop runs on setImmediate, not animation frames
+    bool timeouts_ = false;  // the main loop runs on timeouts, not animation frames
+    double panel_at_ = 0.0;  // when the page's panel last showed the state (emscripten_get_now)
     bool waiting_ = false;  // the page waits for a drawn frame (its frame call said so)
     bool paused_ = false;  // the main loop waits for wake()
     bool autosave_timer_ = false;
@@ -289,14 +296,19 @@ void App::frame() {
         editor_->set_status(e.what());
         log(std::string("frame: ") + e.what());
     }
+    const double now = emscripten_get_now();
     if (draw) {
         dirty_ = false;  // a command the page runs in its frame sets it again
         waiting_ = vfsd_page_frame(editor::overlay_json(editor_->overlay(editor_->pointer())).dump().c_str());
+        panel_at_ = now;
+    } else if (editor_->busy() && now - panel_at_ >= kProgressMs) {
+        vfsd_page_progress();  // the pacer skips costly draws; the panel still follows the run
+        panel_at_ = now;
     }
     // While costly draws are skipped, frames that only integrate need not wait for the display.
     const bool timeouts = editor_->busy() && editor_->draws_costly();
     if (timeouts != timeouts_)
-        emscripten_set_main_loop_timing(timeouts ? EM_TIMING_SETIMMEDIATE : EM_TIMING_RAF, timeouts ? 0 : 1);
+        emscripten_set_main_loop_timing(timeouts ? EM_TIMING_SETTIMEOUT : EM_TIMING_RAF, timeouts ? 0 : 1);
     timeouts_ = timeouts;
     if (!dirty_ && !waiting_ && !editor_->busy()) pause();
 }

@@ -64,6 +64,7 @@
     print: (text) => console.log(text),
     printErr: (text) => console.warn(text),
     vfsdFrame: onFrame,
+    vfsdProgress: () => refresh(command({ cmd: 'state' })),  // a frame that did not draw, while the run goes on
     vfsdAutosaved: () => autosaveStore.write(),
     vfsdContext: (lost) => {
       $('status').textContent = lost ? 'WebGL context lost: waiting for it to come back…'
@@ -230,7 +231,8 @@
     if (document.activeElement !== $('up-axis')) $('up-axis').value = s.up;
     $('force-cpu').checked = s.force_cpu;
     $('wireframe').checked = s.wireframe;
-    $('time-value').textContent = fmt(st.time);
+    // While an edit's run catches up, the last result stays on show: say so.
+    $('time-value').textContent = s.holding ? `updating ${Math.round(100 * st.time / Math.max(s.target_time, 1e-9))} %` : fmt(st.time);
     $('time-progress').value = st.time;
     $('play').firstChild.textContent = s.moving ? 'Pause ' : 'Play ';
     $('stat-vertices').textContent = st.vertices;

@@ -144,6 +144,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
             {"renderer", page.renderer},
             {"target_time", s.target_time()},
             {"moving", s.moving()},
+            {"holding", s.holding_result()},  // the last result on show while an edit's run catches up
             {"tool", tool_name(tools.tool)},
             {"radius", tools.brush.radius},
             {"s_target", tools.brush.s_target},

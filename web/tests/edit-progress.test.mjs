@@ -1,0 +1,60 @@
+// An edit while a result is on show, on the CPU path with a mesh large enough
+// that the run spans many frames (the 41k sphere): the curve's end dragged after
+// a run to t = 1. While the new run catches up the page keeps the last result on
+// show, keeps rendering (the time bar, the dragged curve) and says that it is
+// updating; at t = 1 it shows the new result. The checks count what happened,
+// not how long it took.
+import { openPage, check } from './harness.mjs';
+
+const { page, errors, close } = await openPage('?backend=cpu');
+const api = (fn, arg) => page.evaluate(fn, arg);
+try {
+  await api((m) => window.vfsd.open(m), 'builtin:sphere:6');
+  const s = await api(() => window.vfsd.state());
+  const c = s.control_points;
+  const region = { kind: 'geodesic', seed: c[0], g_min: 0.1 * s.diagonal, g_max: 0.45 * s.diagonal };
+  await api((scene) => window.vfsd.loadScene(scene), { region, curve: { bezier: c }, target_time: 1 });
+  await api(() => window.vfsd.runTo(1));
+  const before = await api(() => window.vfsd.positionsChecksum());
+
+  // Record, from inside the page: every text the time shows, the frames the page
+  // renders, and the positions' checksum at each rendered frame while the run goes on.
+  await api(() => {
+    window.progress = { texts: [], rendered: 0, checksums: [], running: true };
+    new MutationObserver(() => window.progress.texts.push(document.getElementById('time-value').textContent))
+      .observe(document.getElementById('time-value'), { childList: true, characterData: true, subtree: true });
+    const frame = () => {
+      if (!window.progress.running) return;
+      const st = window.vfsd.state();
+      if (st.moving) {
+        window.progress.rendered++;
+        window.progress.checksums.push(window.vfsd.positionsChecksum());
+      }
+      requestAnimationFrame(frame);
+    };
+    requestAnimationFrame(frame);
+  });
+  const last = c.length - 1;
+  const to = (await api((p) => window.vfsd.command({ cmd: 'project', points: [p] }),
+                        [c[last][0], c[last][1] + 0.15 * s.diagonal, c[last][2]])).pixels[0];
+  await api((a) => window.vfsd.command({ cmd: 'drag', index: a.last, to: a.to }), { last, to });
+  await page.waitForFunction(() => {
+    const st = window.vfsd.state();
+    return st.stats.time === 1 && !st.moving;
+  }, null, { polling: 10, timeout: 300000 });
+  const progress = await api(() => { window.progress.running = false; return window.progress; });
+  const after = await api(() => window.vfsd.positionsChecksum());
+  const end = await api(() => window.vfsd.state());
+
+  check(progress.texts.some((t) => t.startsWith('updating')), `the time said it was updating (${progress.texts.slice(0, 3).join(', ')} …)`);
+  check(progress.rendered >= 2, `the page rendered ${progress.rendered} frames while the run went on (at least 2)`);
+  check(progress.checksums.every((x) => x === before),
+        `each of them showed the last result (${progress.checksums.length} checksums equal to the one before the edit)`);
+  check(after !== before, 'at t = 1 the new result is on show');
+  check(end.holding === false, 'and nothing is held any more');
+  check(progress.texts.length > 0 && !progress.texts[progress.texts.length - 1].startsWith('updating'),
+        `the time reads ${progress.texts[progress.texts.length - 1]} at the end`);
+  check(errors.length === 0, 'no console errors' + (errors.length ? ': ' + errors.join(' | ') : ''));
+} finally {
+  await close();
+}
