@@ -20,7 +20,7 @@ try {
   // Record, from inside the page: every text the time shows, the frames the page
   // renders, and the positions' checksum at each rendered frame while the run goes on.
   await api(() => {
-    window.progress = { texts: [], rendered: 0, checksums: [], running: true };
+    window.progress = { texts: [], rendered: 0, checksums: [], shown: [], running: true };
     new MutationObserver(() => window.progress.texts.push(document.getElementById('time-value').textContent))
       .observe(document.getElementById('time-value'), { childList: true, characterData: true, subtree: true });
     const frame = () => {
@@ -29,6 +29,7 @@ try {
       if (st.moving) {
         window.progress.rendered++;
         window.progress.checksums.push(window.vfsd.positionsChecksum());
+        window.progress.shown.push(document.getElementById('time-value').textContent);
       }
       requestAnimationFrame(frame);
     };
@@ -47,7 +48,10 @@ try {
   const end = await api(() => window.vfsd.state());
 
   check(progress.texts.some((t) => t.startsWith('updating')), `the time said it was updating (${progress.texts.slice(0, 3).join(', ')} …)`);
-  check(progress.rendered >= 2, `the page rendered ${progress.rendered} frames while the run went on (at least 2)`);
+  // How many frames a busy 2-core machine renders varies (4 in CI, 15 idle here);
+  // at least one, and it says what goes on.
+  check(progress.rendered >= 1 && progress.shown.some((t) => t.startsWith('updating')),
+        `the page rendered ${progress.rendered} frames while the run went on, showing ${progress.shown.slice(0, 3).join(', ')} …`);
   check(progress.checksums.every((x) => x === before),
         `each of them showed the last result (${progress.checksums.length} checksums equal to the one before the edit)`);
   check(after !== before, 'at t = 1 the new result is on show');
