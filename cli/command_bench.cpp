@@ -211,6 +211,13 @@ void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurv
         {c0, c0 + 0.3 * r * axis, c0 + 0.55 * r * axis + 0.15 * r * side, c0 + 0.7 * r * axis + 0.35 * r * side});
 }
 
+void apply_threads_option(const Args& args) {
+    if (!args.has("threads")) return;
+    const double threads = args.get_number("threads", 0);
+    if (threads < 1 || threads != static_cast<int>(threads)) throw UsageError("--threads expects a positive integer");
+    set_parallel_thread_limit(static_cast<unsigned>(threads));
+}
+
 std::vector<std::string> paper_scene_files() {
     std::vector<std::string> paths;
     const std::string dir = std::string(VFSD_SOURCE_DIR) + "/assets/scenes/";

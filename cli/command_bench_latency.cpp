@@ -146,12 +146,7 @@ int run_latency_bench(const Args& args) {
     const int reference_steps = static_cast<int>(args.get_number("reference-steps", quick ? 200 : 2000));
     if (reference_steps < 1) throw UsageError("--reference-steps expects a positive integer");
     const int repeat = std::max(1, static_cast<int>(args.get_number("repeat", quick ? 1 : 3)));
-    if (args.has("threads")) {
-        const double threads = args.get_number("threads", 0);
-        if (threads < 1 || threads != static_cast<int>(threads))
-            throw UsageError("--threads expects a positive integer");
-        set_parallel_thread_limit(static_cast<unsigned>(threads));
-    }
+    apply_threads_option(args);
     const std::string only = args.has("only") ? args.get("only") : "";
     const std::string scene = args.has("scene") ? args.get("scene") : "";
     if (fixed_steps > 0)

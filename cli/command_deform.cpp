@@ -20,7 +20,6 @@
 #include <nlohmann/json.hpp>
 
 #include "base/error.h"
-#include "base/parallel.h"
 #include "cli/commands.h"
 #include "deform/quality.h"
 #include "gpu/context.h"
@@ -171,11 +170,7 @@ int run_deform(const Args& args) {
     if (!args.has("out") || args.get("out").empty()) throw UsageError("--out OUT is required");
     const std::string backend = args.get("backend", "cpu");
     if (backend != "cpu" && backend != "gpu") throw UsageError("--backend must be 'cpu' or 'gpu'");
-    if (args.has("threads")) {
-        const double threads = args.get_number("threads", 0);
-        if (threads < 1 || threads != static_cast<int>(threads)) throw UsageError("--threads expects a positive integer");
-        set_parallel_thread_limit(static_cast<unsigned>(threads));
-    }
+    apply_threads_option(args);
     Scene scene = load_scene(scene_path);
     if (args.has("steps")) {
         const double steps = args.get_number("steps", 0);

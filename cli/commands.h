@@ -70,6 +70,9 @@ void bench_region_and_curve(const TriangleMesh& mesh, Region& region, BezierCurv
 // on stdout.
 std::vector<std::string> paper_scene_files();
 
+// --threads N (a positive integer), if given: the thread pool's limit.
+void apply_threads_option(const Args& args);
+
 // The middle value (the upper one of an even count); 0 for none.
 double median(std::vector<double> values);
 

@@ -247,11 +247,7 @@ void App::draw_time_bar() {
     tooltip("The dark sphere; the white one is the current time");
     ImGui::SameLine();
     char label[64];
-    // While an edit's run catches up, the last result stays on show: say so.
-    if (s.holding_result())
-        std::snprintf(label, sizeof label, "updating %.0f %%", 100.0 * s.time() / std::max(s.target_time(), 1e-9));
-    else
-        std::snprintf(label, sizeof label, "t = %.3f", s.time());
+    std::snprintf(label, sizeof label, "%s%s", s.holding_result() ? "" : "t = ", editor::time_stat_text(s).c_str());
     const double span = std::abs(s.target_time() - 0.0);
     ImGui::ProgressBar(span > 0 ? float(s.time() / span) : 0.0f, ImVec2(120, 0), label);
     struct Action {

@@ -342,6 +342,7 @@ TEST_CASE("EditorSession: an edit shows its result when it is computed, play and
     CHECK(session.time() > 0.0);
     CHECK(session.time() < 1.0);
     CHECK(session.positions() == before);
+    CHECK(time_stat_text(session).rfind("updating ", 0) == 0);  // both editors say so
     // The stats are those of the result on show, not of the run's way there.
     CHECK(session.stats().volume_error_percent == shown_stats.volume_error_percent);
     CHECK(session.stats().flipped_triangles == shown_stats.flipped_triangles);
@@ -354,6 +355,7 @@ TEST_CASE("EditorSession: an edit shows its result when it is computed, play and
     CHECK(session.positions() != before);
     CHECK(session.positions_revision() != shown);
     CHECK(session.stats().volume_error_percent != shown_stats.volume_error_percent);
+    CHECK(time_stat_text(session) == "1.000");
 
     // Scrubbing after an edit shows the way: positions follow the run's time.
     session.move_control_point(3, session.control_points()[3] + Vec3(-0.05, 0.0, 0.0));

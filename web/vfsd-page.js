@@ -231,8 +231,7 @@
     if (document.activeElement !== $('up-axis')) $('up-axis').value = s.up;
     $('force-cpu').checked = s.force_cpu;
     $('wireframe').checked = s.wireframe;
-    // While an edit's run catches up, the last result stays on show: say so.
-    $('time-value').textContent = s.holding ? `updating ${Math.round(100 * st.time / Math.max(s.target_time, 1e-9))} %` : fmt(st.time);
+    $('time-value').textContent = s.time_text;  // "updating N %" while the last result stays on show
     $('time-progress').value = st.time;
     $('play').firstChild.textContent = s.moving ? 'Pause ' : 'Play ';
     $('stat-vertices').textContent = st.vertices;

@@ -145,6 +145,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
             {"target_time", s.target_time()},
             {"moving", s.moving()},
             {"holding", s.holding_result()},  // the last result on show while an edit's run catches up
+            {"time_text", time_stat_text(s)},
             {"tool", tool_name(tools.tool)},
             {"radius", tools.brush.radius},
             {"s_target", tools.brush.s_target},

@@ -110,6 +110,16 @@ std::string volume_stat_text(const SessionStats& st) {
     return text;
 }
 
+std::string time_stat_text(const EditorSession& session) {
+    char text[32];
+    if (session.holding_result())
+        std::snprintf(text, sizeof text, "updating %.0f %%",
+                      100.0 * session.time() / std::max(session.target_time(), 1e-9));
+    else
+        std::snprintf(text, sizeof text, "%.3f", session.time());
+    return text;
+}
+
 std::string flipped_stat_text(const SessionStats& st) {
     std::string text = std::to_string(st.flipped_since_opened) + " since opened";
     std::string edit = st.applied ? "this edit " + std::to_string(st.flipped_triangles) : "";

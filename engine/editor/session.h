@@ -312,4 +312,8 @@ private:
     mutable SurfacePicker picker_;
 };
 
+// The current time as both editors show it: "0.420", or while an edit's run
+// catches up with the last result on show, "updating 42 %" (of the way to the target).
+std::string time_stat_text(const EditorSession& session);
+
 }  // namespace vfsd::editor
