@@ -155,7 +155,8 @@ private:
     bool dirty_ = true;    // draw the next frame
     GLsync fence_ = nullptr;  // set after a draw while the deformation runs, until the GPU finished it
     double fenced_at_ = 0.0;
-    bool timeouts_ = false;  // the main loop runs on timeouts, not animation frames
+    enum class Timing { animation_frames, timeout, immediate };
+    Timing timing_ = Timing::animation_frames;  // how the main loop's next frame is called
     double panel_at_ = 0.0;  // when the page's panel last showed the state (emscripten_get_now)
     bool waiting_ = false;  // the page waits for a drawn frame (its frame call said so)
     bool paused_ = false;  // the main loop waits for wake()
@@ -297,6 +298,7 @@ void App::frame() {
         log(std::string("frame: ") + e.what());
     }
     const double now = emscripten_get_now();
+    bool shown = draw;  // this frame changed what the page shows
     if (draw) {
         dirty_ = false;  // a command the page runs in its frame sets it again
         waiting_ = vfsd_page_frame(editor::overlay_json(editor_->overlay(editor_->pointer())).dump().c_str());
@@ -304,12 +306,24 @@ void App::frame() {
     } else if (editor_->busy() && now - panel_at_ >= kProgressMs) {
         vfsd_page_progress();  // the pacer skips costly draws; the panel still follows the run
         panel_at_ = now;
+        shown = true;
     }
-    // While costly draws are skipped, frames that only integrate need not wait for the display.
-    const bool timeouts = editor_->busy() && editor_->draws_costly();
-    if (timeouts != timeouts_)
-        emscripten_set_main_loop_timing(timeouts ? EM_TIMING_SETTIMEOUT : EM_TIMING_RAF, timeouts ? 0 : 1);
-    timeouts_ = timeouts;
+    // While costly draws are skipped, a frame that only integrates is followed at
+    // once (setImmediate: no 4 ms timeout clamp) and one that changed what the page
+    // shows by a timeout, which gives the browser a chance to render it; frames
+    // queued back to back by setImmediate alone left it none until the run ended.
+    const Timing timing = !(editor_->busy() && editor_->draws_costly()) ? Timing::animation_frames
+                          : shown                                       ? Timing::timeout
+                                                                        : Timing::immediate;
+    if (timing != timing_) {
+        if (timing == Timing::immediate)
+            emscripten_set_main_loop_timing(EM_TIMING_SETIMMEDIATE, 0);
+        else if (timing == Timing::timeout)
+            emscripten_set_main_loop_timing(EM_TIMING_SETTIMEOUT, 0);
+        else
+            emscripten_set_main_loop_timing(EM_TIMING_RAF, 1);
+    }
+    timing_ = timing;
     if (!dirty_ && !waiting_ && !editor_->busy()) pause();
 }
 
