@@ -6,6 +6,9 @@
 // the mesh is open and its rings built (an editor has both; not timed), then
 // - a curve edit: the motion built, the deformation made and integrated from
 //   t = 0 to 1 with error-controlled steps (deform/deformation.h);
+// - the same curve edit with the rest state kept: the deformation started from
+//   what an earlier run on the same mesh, region and options built at rest (the
+//   editors' case for every curve edit after the first, deform/cpu_steps.h);
 // - a region edit: s computed first (sec. 6), then the same.
 // Against a reference of N fixed steps (default 2000) on the same prepared scene:
 // the largest and the 99.9th-percentile vertex distance, over the mesh's size
@@ -18,10 +21,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <memory>
+#include <stdexcept>
 
 #include "base/error.h"
 #include "base/parallel.h"
 #include "cli/commands.h"
+#include "deform/cpu_steps.h"
 #include "deform/quality.h"
 #include "io/mesh_file.h"
 #include "mesh/geometry.h"
@@ -115,17 +121,31 @@ struct Run {
     std::vector<Vec3> positions;
     int steps = 0;
     StepErrors errors;
+    std::shared_ptr<const CpuRest> rest;  // what a later curve edit may start from
 };
 
-// The prepared scene moved into the deformation, as the editors do.
-Run integrate(PreparedScene p, const DeformationOptions& options) {
+Run finish(Deformation& d) {
     Run run;
-    p.scene.options = options;
-    Deformation d = std::move(p).start_deformation();
     run.steps = d.advance(1.0);
     run.positions = d.positions();
     run.errors = d.step_errors();
+    run.rest = d.cpu_rest();
     return run;
+}
+
+// The prepared scene moved into the deformation, as the editors do.
+Run integrate(PreparedScene p, const DeformationOptions& options) {
+    p.scene.options = options;
+    Deformation d = std::move(p).start_deformation();
+    return finish(d);
+}
+
+// The same from an earlier run's rest state, as the editors do for a curve edit.
+Run integrate_from(const std::shared_ptr<const CpuRest>& rest, PreparedScene p, const DeformationOptions& options) {
+    if (!rest || !rest->fits(p.file.mesh.positions, p.rings, p.region, options))
+        throw std::logic_error("the rest state does not fit its own scene");
+    Deformation d(rest, std::move(p.motion), options);
+    return finish(d);
 }
 
 std::size_t folds(const PreparedScene& p, const std::vector<Vec3>& positions) {
@@ -157,12 +177,12 @@ int run_latency_bench(const Args& args) {
             "edit to final shape, t = 0 to 1, tolerance %g of the mesh's size, %u threads; reference: %d "
             "fixed steps\n",
             tolerance, parallel_thread_count(), reference_steps);
-    std::printf("%-30s %9s %9s %10s %11s %6s %8s %11s %11s %12s\n", "scene", "vertices", "region", "curve edit",
-                "region edit", "steps", "rejected", "max dev", "99.9% dev", "folds / ref");
+    std::printf("%-30s %9s %9s %10s %10s %11s %6s %8s %11s %11s %12s\n", "scene", "vertices", "region", "curve edit",
+                "rest kept", "region edit", "steps", "rejected", "max dev", "99.9% dev", "folds / ref");
     for (const LatencyCase& c : cases(quick, scene)) {
         if (!only.empty() && c.name.find(only) == std::string::npos) continue;
         const OpenMesh open = c.open();
-        std::vector<double> region_ms, curve_edit_ms, region_edit_ms;
+        std::vector<double> region_ms, curve_edit_ms, rest_kept_ms, region_edit_ms;
         PreparedScene p;
         Run run;
         for (int r = 0; r < repeat; ++r) {
@@ -183,6 +203,13 @@ int run_latency_bench(const Args& args) {
             region_ms.push_back(region_time);
             curve_edit_ms.push_back(curve_edit);
             region_edit_ms.push_back(region_time + curve_edit);
+            // The same curve edit again, from the rest state the run left.
+            Region same = p.region;  // the editor holds the region: not timed
+            const auto kept = Clock::now();
+            const Run from_rest = integrate_from(run.rest, prepare(open, std::move(same), curve), options);
+            rest_kept_ms.push_back(ms_since(kept));
+            if (from_rest.positions != run.positions)
+                throw std::logic_error(c.name + ": the run from the kept rest state differs from the run");
         }
         const double size = centred_diameter(p.file.mesh.positions);
         char deviation[2][32] = {"-", "-"}, fold_text[32];
@@ -201,9 +228,9 @@ int run_latency_bench(const Args& args) {
             std::snprintf(fold_text, sizeof fold_text, "%zu / %zu", folds(p, run.positions),
                           folds(p, reference.positions));
         }
-        std::printf("%-30s %9zu %6.1f ms %7.1f ms %8.1f ms %6d %8d %11s %11s %12s\n", c.name.c_str(),
-                    p.file.mesh.vertex_count(), median(region_ms), median(curve_edit_ms), median(region_edit_ms),
-                    run.steps, run.errors.rejected, deviation[0], deviation[1], fold_text);
+        std::printf("%-30s %9zu %6.1f ms %7.1f ms %7.1f ms %8.1f ms %6d %8d %11s %11s %12s\n", c.name.c_str(),
+                    p.file.mesh.vertex_count(), median(region_ms), median(curve_edit_ms), median(rest_kept_ms),
+                    median(region_edit_ms), run.steps, run.errors.rejected, deviation[0], deviation[1], fold_text);
         std::fflush(stdout);
     }
     return kExitOk;

@@ -8,10 +8,11 @@
 #include <filesystem>
 
 #include "base/error.h"
+#include "deform/cpu_steps.h"
 #include "deform/quality.h"
-#include "io/mesh_file.h"
 #include "editor/script.h"
 #include "editor/session.h"
+#include "io/mesh_file.h"
 #include "region/selectors.h"
 #include "test_editor_support.h"
 #include "test_fold_support.h"
@@ -367,4 +368,39 @@ TEST_CASE("EditorSession: an edit shows its result when it is computed, play and
     run_to_target(session);
     CHECK(session.time() == 0.5);
     CHECK(session.positions() == session.deformation()->positions());
+}
+
+TEST_CASE("EditorSession: a curve edit's run starts from the last run's rest state, a region edit's does not",
+          "[editor][session][rest]") {
+    EditorSession session;
+    session.open_mesh("builtin:cylinder:12");
+    session.set_target_time(1.0);
+    run_to_target(session);
+    REQUIRE(session.deformation()->backend_name() == std::string("cpu"));
+    const std::shared_ptr<const CpuRest> rest = session.deformation()->cpu_rest();
+    REQUIRE(rest != nullptr);
+
+    // Two curve edits, the second while the first's run catches up: both runs
+    // start from the same rest state, and give what a session that never ran
+    // before gives for that curve.
+    const Vec3 end = session.control_points()[3];
+    session.move_control_point(3, end + Vec3(0.1, 0.0, 0.05));
+    session.update(2);
+    CHECK(session.deformation()->cpu_rest() == rest);
+    session.move_control_point(3, end + Vec3(0.15, -0.1, 0.0));
+    run_to_target(session);
+    CHECK(session.deformation()->cpu_rest() == rest);
+    EditorSession fresh;
+    fresh.open_mesh("builtin:cylinder:12");
+    fresh.move_control_point(3, end + Vec3(0.15, -0.1, 0.0));
+    fresh.set_target_time(1.0);
+    run_to_target(fresh);
+    CHECK(fresh.deformation()->cpu_rest() != rest);
+    CHECK(session.positions() == fresh.positions());
+
+    // A region edit changes s: its run builds its own.
+    session.set_region_band(0.5 * (session.region_band() + 1.0));
+    run_to_target(session);
+    REQUIRE(session.deformation()->cpu_rest() != nullptr);
+    CHECK(session.deformation()->cpu_rest() != rest);
 }

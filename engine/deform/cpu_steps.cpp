@@ -14,35 +14,93 @@
 
 namespace vfsd {
 
+std::uint64_t hash_rings(const VertexRings& rings) {
+    std::uint64_t hash = 1469598103934665603ull;
+    const auto add = [&](std::uint32_t x) { hash = (hash ^ x) * 1099511628211ull; };
+    for (const std::uint32_t x : rings.offsets) add(x);
+    for (const std::uint32_t x : rings.neighbours) add(x);
+    return hash;
+}
+
+// The steps of two deformations are the same from the same rest state when these agree.
+bool CpuRest::fits(const std::vector<Vec3>& positions, const VertexRings& input_rings, const Region& region,
+                   const DeformationOptions& other) const {
+    const DeformationOptions& o = options;
+    if (region.sphere_tool || region.s.size() != positions.size() || positions != input_positions) return false;
+    if (o.smoothing_steps != other.smoothing_steps || o.smoothing_weight != other.smoothing_weight ||
+        o.gradients_at_midpoint != other.gradients_at_midpoint || o.fit_stream_gauge != other.fit_stream_gauge ||
+        o.tangent_smoothing != other.tangent_smoothing || o.keep_volume != other.keep_volume ||
+        o.repair_folds != other.repair_folds)
+        return false;
+    for (std::size_t i = 0; i < order.size(); ++i)
+        if (s[i] != region.s[order[i]]) return false;
+    return hash_rings(input_rings) == rings_hash;
+}
+
 CpuSteps::CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
                    DeformationOptions options)
-    : positions_(std::move(positions)),
-      rings_(std::move(rings)),
-      region_(std::move(region)),
-      motion_(std::move(motion)),
-      options_(options) {
-    if (!region_.sphere_tool) {
-        if (region_.s.size() != positions_.size())
+    : region_(std::move(region)), motion_(std::move(motion)), options_(options) {
+    if (region_.sphere_tool) {
+        positions_ = std::move(positions);
+    } else {
+        if (region_.s.size() != positions.size())
             throw InputError("region: " + std::to_string(region_.s.size()) + " values of s for " +
-                             std::to_string(positions_.size()) + " vertices");
-        if (rings_.vertex_count() != positions_.size()) throw InputError("rings do not match the mesh");
+                             std::to_string(positions.size()) + " vertices");
+        if (rings.vertex_count() != positions.size()) throw InputError("rings do not match the mesh");
+        auto rest = std::make_shared<CpuRest>();
+        rest->rings_hash = hash_rings(rings);
+        rest->options = options;
+        rest->frame = LocalFrame::of(positions);
+        rest->input_positions = std::move(positions);
+        rest->order = breadth_first_order(rings);
+        rest->positions = gather_in_order(rest->input_positions, rest->order);
+        for (Vec3& p : rest->positions) p = rest->frame.to_local(p);
+        rest->rings = reorder_rings(rings, rest->order);
+        rest->s = gather_in_order(region_.s, rest->order);
+        rest->parts = RegionParts::of(rest->s, rest->rings);
+        rest->gauge_samples = gauge_samples(rest->s, rest->parts.blend);
+        rest->size = centred_diameter(rest->positions);
+        region_.s.clear();
+        building_ = rest;
+        rest_ = std::move(rest);
     }
-    if (!region_.sphere_tool) {
-        frame_ = LocalFrame::of(positions_);
-        input_order_ = positions_;
-        for (Vec3& p : positions_) p = frame_.to_local(p);
-        order_ = breadth_first_order(rings_);
-        positions_ = gather_in_order(positions_, order_);
-        rings_ = reorder_rings(rings_, order_);
-        s_ = gather_in_order(region_.s, order_);
-        parts_ = RegionParts::of(s_, rings_);
-        gauge_samples_ = gauge_samples(s_, parts_.blend);
-        size_ = centred_diameter(positions_);
+    start_from_rest();
+}
+
+CpuSteps::CpuSteps(std::shared_ptr<const CpuRest> rest, InnerMotion motion, DeformationOptions options)
+    : rest_(std::move(rest)), motion_(std::move(motion)), options_(options) {
+    start_from_rest();
+}
+
+// The work arrays at t = 0, from rest_ and as far as it is built.
+void CpuSteps::start_from_rest() {
+    if (rest_) {
+        frame_ = rest_->frame;
+        positions_ = rest_->positions;
+        input_order_ = rest_->input_positions;
     }
     normals_.assign(positions_.size(), Vec3(0.0));
     gradients_.assign(positions_.size(), Vec3(0.0));
     next_ = positions_;
     midpoints_ = positions_;
+    if (!rest_) return;
+    if (rest_->keepers_built) fold_repair_ = rest_->fold_repair;
+    if (rest_->estimated) {
+        const std::vector<std::uint32_t>& blend = rest_->parts.blend;
+        for (std::size_t i = 0; i < blend.size(); ++i) {
+            normals_[blend[i]] = rest_->normals[i];
+            gradients_[blend[i]] = rest_->gradients[i];
+        }
+        area_vectors_ = rest_->area_vectors;
+        gauge_fit_ = rest_->gauge_fit;
+        have_gradients_ = true;
+        gradient_time_ = 0.0;
+    }
+}
+
+std::shared_ptr<const CpuRest> CpuSteps::cpu_rest() const {
+    if (!rest_ || !rest_->keepers_built || (options_.gradients_at_midpoint && !rest_->estimated)) return nullptr;
+    return rest_;
 }
 
 StepResult CpuSteps::step(double time, double h, int step, double max_error) {
@@ -65,9 +123,9 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
                 *m = frame_.to_local(*m);
                 if (options_.fit_stream_gauge) m->gauge = gauge_fit_->gauge_for(*m);
             }
-            predict_midpoints(half, s_, parts_, gradients_, positions_, midpoints_);
+            predict_midpoints(half, rest_->s, rest_->parts, gradients_, positions_, midpoints_);
             sample_gradients_.clear();
-            for (const std::uint32_t v : gauge_samples_) sample_gradients_.push_back(gradients_[v]);
+            for (const std::uint32_t v : rest_->gauge_samples) sample_gradients_.push_back(gradients_[v]);
             const double span = std::abs(time + 0.5 * h - gradient_time_);
             estimate_surface_gradients(midpoints_);
             gradient_time_ = time + 0.5 * h;
@@ -82,14 +140,14 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
         }
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
-        deformation_step(motion, s_, parts_, gradients_, positions_, next_);
+        deformation_step(motion, rest_->s, rest_->parts, gradients_, positions_, next_);
         check_finite(next_, step, time);
     }
     positions_.swap(next_);
     // The volume drift is undone after every step, while it is small and smooth
     // (restoring it every few steps folded thin features); it is then part of
     // the step's map, and a step back undoes it as well.
-    if (!region_.sphere_tool) volume_restored_ += std::abs(volume_.restore(positions_, area_vectors_));
+    if (!region_.sphere_tool) volume_restored_ += std::abs(rest_->volume.restore(positions_, area_vectors_));
     // Then the fold repair, which sees what the keeper's move folded too (a
     // needle's corner pushed across its base). A repair moves vertices up to an
     // edge: the keeper's ∂V/∂x from the step's midpoint no longer describes
@@ -97,11 +155,11 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     // steps; what those fold in turn is repaired again, up to kRepairCycles times.
     const bool affine_test = FoldRepair::affine_test_due(time, time + h);
     for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
-        fold_repair_.repair(positions_, rings_, affine_test && cycle == 0, cycle == 0);
-        if (!fold_repair_.acted() || !volume_.active()) break;
+        fold_repair_.repair(positions_, rest_->rings, affine_test && cycle == 0, cycle == 0);
+        if (!fold_repair_.acted() || !rest_->volume.active()) break;
         for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
-            ring_area_vectors(positions_, rings_, parts_.blend, area_vectors_);
-            volume_restored_ += std::abs(volume_.restore(positions_, area_vectors_));
+            ring_area_vectors(positions_, rest_->rings, rest_->parts.blend, area_vectors_);
+            volume_restored_ += std::abs(rest_->volume.restore(positions_, area_vectors_));
         }
     }
     input_order_current_ = false;
@@ -113,7 +171,7 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
 double CpuSteps::motion_error(const StepMotion& full, const StepMotion& first_half, double time, double h) const {
     StepMotion second_half = StepMotion::sample(motion_, time + 0.5 * h, 0.5 * h);
     for (MotionSample* m : {&second_half.start, &second_half.middle, &second_half.end}) *m = frame_.to_local(*m);
-    return rigid_step_error(full, first_half, second_half, size_) / size_;
+    return rigid_step_error(full, first_half, second_half, rest_->size) / rest_->size;
 }
 
 // The step's estimated error, relative to the mesh's size (centred_diameter): how far the step would
@@ -125,20 +183,21 @@ double CpuSteps::motion_error(const StepMotion& full, const StepMotion& first_ha
 // steps"). Taken at the gauge's samples, spread over the blend region: the
 // GPU reads those back anyway, and estimates as this does.
 double CpuSteps::estimate_error(const MotionSample& middle, double h, double span) const {
-    return sampled_step_error(middle, h, span, gauge_samples_.size(),
-                              [&](std::size_t j) {
-                                  const std::uint32_t v = gauge_samples_[j];
-                                  return StepErrorSample{midpoints_[v], s_[v], sample_gradients_[j], gradients_[v]};
-                              }) /
-           size_;
+    return sampled_step_error(
+               middle, h, span, rest_->gauge_samples.size(),
+               [&](std::size_t j) {
+                   const std::uint32_t v = rest_->gauge_samples[j];
+                   return StepErrorSample{midpoints_[v], rest_->s[v], sample_gradients_[j], gradients_[v]};
+               }) /
+           rest_->size;
 }
 
 const std::vector<Vec3>& CpuSteps::positions() const {
-    if (order_.empty()) return positions_;
+    if (!rest_) return positions_;
     if (!input_order_current_) {
         // The outer region does not move: input_order_ keeps its input positions.
-        for (const auto* part : {&parts_.inner, &parts_.blend})
-            for (const std::uint32_t v : *part) input_order_[order_[v]] = frame_.to_world(positions_[v]);
+        for (const auto* part : {&rest_->parts.inner, &rest_->parts.blend})
+            for (const std::uint32_t v : *part) input_order_[rest_->order[v]] = frame_.to_world(positions_[v]);
         input_order_current_ = true;
     }
     return input_order_;
@@ -155,26 +214,43 @@ bool CpuSteps::prepare_first_step() {
 
 // The volume keeper and the fold repair take the rest positions: built before
 // the first step, by it or by prepare_first_step (so that the editors' frame
-// that prepares the deformation does not also pay for these). True if built now.
+// that prepares the deformation does not also pay for these), into the rest
+// state. True if built now.
 bool CpuSteps::build_keepers() {
-    if (keepers_built_ || region_.sphere_tool) return false;
-    keepers_built_ = true;
-    if (options_.keep_volume) volume_ = VolumeKeeper(positions_, s_, rings_, parts_.blend);
-    if (options_.repair_folds) fold_repair_ = FoldRepair(positions_, s_, rings_, order_);
+    if (!rest_ || rest_->keepers_built) return false;
+    CpuRest& rest = *building_;
+    rest.keepers_built = true;
+    if (options_.keep_volume) rest.volume = VolumeKeeper(rest.positions, rest.s, rest.rings, rest.parts.blend);
+    if (options_.repair_folds)
+        fold_repair_ = rest.fold_repair = FoldRepair(rest.positions, rest.s, rest.rings, rest.order);
     return options_.keep_volume || options_.repair_folds;
 }
 
-// ∇r and the gauge's fit at the step's start, `time`.
+// ∇r and the gauge's fit at the step's start, `time`; the first, at rest, is
+// kept in the rest state (with midpoint gradients, later steps do not estimate
+// at their start).
 void CpuSteps::estimate_at_start(double time) {
     estimate_surface_gradients(positions_);
     gradient_time_ = time;
     if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(positions_);
+    if (!building_ || building_->estimated || !options_.gradients_at_midpoint) return;
+    CpuRest& rest = *building_;
+    rest.estimated = true;
+    rest.normals.reserve(rest.parts.blend.size());
+    rest.gradients.reserve(rest.parts.blend.size());
+    for (const std::uint32_t v : rest.parts.blend) {  // the passes write the blend region's only
+        rest.normals.push_back(normals_[v]);
+        rest.gradients.push_back(gradients_[v]);
+    }
+    rest.area_vectors = area_vectors_;
+    rest.gauge_fit = gauge_fit_;
 }
 
 // The stream gauge's fit to the blend region at `at` with the current ∇r.
 GaugeFit CpuSteps::fit_stream_gauge(const std::vector<Vec3>& at) const {
     std::vector<GaugeSample> samples;
-    for (const std::uint32_t v : gauge_samples_) samples.push_back(gauge_sample(at[v], s_[v], gradients_[v]));
+    for (const std::uint32_t v : rest_->gauge_samples)
+        samples.push_back(gauge_sample(at[v], rest_->s[v], gradients_[v]));
     return GaugeFit(std::move(samples));
 }
 
@@ -185,32 +261,41 @@ FoldRepairStats CpuSteps::fold_repairs() const {
 }
 
 double CpuSteps::volume_restored_percent() const {
-    return volume_.active() && volume_.rest_volume() != 0.0 ? 100.0 * volume_restored_ / std::abs(volume_.rest_volume())
-                                                            : 0.0;
+    return rest_ && rest_->volume.active() && rest_->volume.rest_volume() != 0.0
+               ? 100.0 * volume_restored_ / std::abs(rest_->volume.rest_volume())
+               : 0.0;
 }
 
 // Normal, gradient (eq. 6) and smoothing passes on the positions `at`.
 void CpuSteps::estimate_surface_gradients(const std::vector<Vec3>& at) {
-    estimate_normals(at, rings_, parts_.blend, normals_, area_vectors_);
-    estimate_gradients(at, normals_, s_, rings_, parts_.blend, gradients_);
-    smooth_gradients(normals_, parts_, options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing,
-                     gradients_, smoothing_);
+    estimate_normals(at, rest_->rings, rest_->parts.blend, normals_, area_vectors_);
+    estimate_gradients(at, normals_, rest_->s, rest_->rings, rest_->parts.blend, gradients_);
+    smooth_gradients(normals_, rest_->parts, options_.smoothing_steps, options_.smoothing_weight,
+                     options_.tangent_smoothing, gradients_, smoothing_);
     have_gradients_ = true;
 }
 
 namespace {
 template <class T>
-std::size_t bytes(const std::vector<T>& v) {
+std::size_t capacity_bytes(const std::vector<T>& v) {
     return v.capacity() * sizeof(T);
 }
 }  // namespace
 
+std::size_t CpuRest::bytes() const {
+    return capacity_bytes(input_positions) + capacity_bytes(order) + capacity_bytes(rings.offsets) +
+           capacity_bytes(rings.neighbours) + capacity_bytes(rings.wedge) + capacity_bytes(s) +
+           capacity_bytes(positions) + capacity_bytes(parts.blend) + capacity_bytes(parts.inner) +
+           capacity_bytes(parts.blend_ring_offsets) + capacity_bytes(parts.blend_rings) +
+           capacity_bytes(gauge_samples) + fold_repair.bytes() + capacity_bytes(normals) + capacity_bytes(gradients) +
+           capacity_bytes(area_vectors);
+}
+
 std::size_t CpuSteps::state_bytes() const {
-    return bytes(positions_) + bytes(next_) + bytes(midpoints_) + bytes(normals_) + bytes(gradients_) +
-           bytes(area_vectors_) + bytes(input_order_) + bytes(smoothing_.gradients) + bytes(smoothing_.next) +
-           bytes(smoothing_.normals) + bytes(region_.s) + bytes(s_) + bytes(order_) + bytes(rings_.offsets) +
-           bytes(rings_.neighbours) + bytes(rings_.wedge) + bytes(parts_.blend) + bytes(parts_.inner) +
-           bytes(parts_.blend_ring_offsets) + bytes(parts_.blend_rings) + fold_repair_.bytes();
+    return capacity_bytes(positions_) + capacity_bytes(next_) + capacity_bytes(midpoints_) + capacity_bytes(normals_) +
+           capacity_bytes(gradients_) + capacity_bytes(area_vectors_) + capacity_bytes(input_order_) +
+           capacity_bytes(smoothing_.gradients) + capacity_bytes(smoothing_.next) + capacity_bytes(smoothing_.normals) +
+           fold_repair_.bytes(false) + (rest_ ? rest_->bytes() : 0);
 }
 
 // Throws NumericalError at the first non-finite position among those the step moved.
@@ -218,13 +303,13 @@ void CpuSteps::check_finite(const std::vector<Vec3>& candidate, int step, double
     const auto check = [&](std::size_t v) {
         const Vec3& p = candidate[v];
         if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) return;
-        throw nonfinite_position(order_.empty() ? v : order_[v], step, time);
+        throw nonfinite_position(rest_ ? rest_->order[v] : v, step, time);
     };
     if (region_.sphere_tool) {
         for (std::size_t v = 0; v < candidate.size(); ++v) check(v);
         return;
     }
-    for (const auto* part : {&parts_.inner, &parts_.blend}) {
+    for (const auto* part : {&rest_->parts.inner, &rest_->parts.blend}) {
         const auto non_finite = parallel_sum(part->size(), [&](std::size_t i) {
             const Vec3& p = candidate[(*part)[i]];
             return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) ? 0.0 : 1.0;

@@ -4,6 +4,9 @@
 // The region is either a surface field s (sec. 3, r = s) or the implicit sphere
 // tool of [23]. Deformation (deform/deformation.h) walks the time grid over it.
 
+#include <cstdint>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "deform/deformation.h"
@@ -15,11 +18,52 @@
 
 namespace vfsd {
 
+// What a CPU deformation computes before its first step and its motion does not
+// change: the work order, the local frame and the region's parts, the volume
+// keeper and the fold repair at rest, and ∇r, the normals and the gauge's fit at
+// rest. An editor keeps it across curve edits (every event of a curve drag
+// restarts the run from t = 0) and starts the next deformation of the same mesh,
+// region and options from it: the steps are the same, bit for bit.
+struct CpuRest {
+    // The input it was built from, to tell whether another deformation fits it.
+    std::vector<Vec3> input_positions;  // in the input's order
+    std::uint64_t rings_hash = 0;       // of the input's rings (hash_rings)
+    DeformationOptions options;
+    // In the work order: vertex i is input vertex order[i] (mesh/vertex_order.h),
+    // positions in frame's local coordinates (deform/local_frame.h).
+    LocalFrame frame;
+    std::vector<std::uint32_t> order;
+    VertexRings rings;
+    std::vector<double> s;
+    std::vector<Vec3> positions;
+    RegionParts parts;
+    std::vector<std::uint32_t> gauge_samples;  // the blend vertices the stream's gauge is fitted to
+    double size = 0.0;                         // centred_diameter at rest, in frame's units
+    // Built before the first step (CpuSteps::prepare_first_step), then kept.
+    bool keepers_built = false;
+    VolumeKeeper volume;
+    FoldRepair fold_repair;
+    bool estimated = false;                              // the estimates at rest (with midpoint gradients only)
+    std::vector<Vec3> normals, gradients, area_vectors;  // per blend vertex (parts.blend)
+    std::optional<GaugeFit> gauge_fit;
+
+    // Whether a deformation of these positions, rings, region and options may start from it.
+    bool fits(const std::vector<Vec3>& positions, const VertexRings& input_rings, const Region& region,
+              const DeformationOptions& other) const;
+    std::size_t bytes() const;
+};
+
+// A hash of the rings' vertex lists (FNV-1a), to tell meshes apart cheaply.
+std::uint64_t hash_rings(const VertexRings& rings);
+
 class CpuSteps final : public StepBackend {
 public:
     // Throws InputError when sizes disagree.
     CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
              DeformationOptions options);
+    // From what an earlier deformation built at rest (CpuRest::fits must hold for
+    // it: the same mesh, region and options).
+    CpuSteps(std::shared_ptr<const CpuRest> rest, InnerMotion motion, DeformationOptions options);
 
     const char* name() const override { return "cpu"; }
     StepResult step(double time, double h, int step, double max_error) override;
@@ -28,8 +72,9 @@ public:
     bool prepare_first_step() override;
     const std::vector<Vec3>& positions() const override;
     FoldRepairStats fold_repairs() const override;
+    std::shared_ptr<const CpuRest> cpu_rest() const override;
 
-    // Bytes held by the deformation state: positions, work arrays, s, rings, region parts.
+    // Bytes held by the deformation state: positions, work arrays, s, rings, region parts, the rest state.
     std::size_t state_bytes() const;
     // The volume drift the keeper undid over all steps so far, in percent of the
     // volume before (0 with keep_volume off or on an open surface): the error the
@@ -40,41 +85,36 @@ private:
     void check_finite(const std::vector<Vec3>& candidate, int step, double time) const;
     void estimate_surface_gradients(const std::vector<Vec3>& at);
     void estimate_at_start(double time);
+    void start_from_rest();
     double estimate_error(const MotionSample& middle, double h, double span) const;
     double motion_error(const StepMotion& full, const StepMotion& first_half, double time, double h) const;
     bool build_keepers();
     GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
 
-    // positions_, rings_ and s_ are in the work order: vertex i is input vertex
-    // order_[i] (mesh/vertex_order.h); order_ is empty for the sphere tool.
-    // positions_ are in frame_'s local coordinates (deform/local_frame.h), the
-    // identity for the sphere tool; input_order_ holds the input's positions, of
-    // which positions() overwrites the moving ones, so the outer region is
-    // handed back bit for bit.
+    // rest_ holds what does not change over the steps (null for the sphere tool);
+    // building_ is the same object while this deformation builds it, null once
+    // it is complete or when it came complete. positions_ are in the work order
+    // and the local frame (the identity for the sphere tool); input_order_ holds
+    // the input's positions, of which positions() overwrites the moving ones, so
+    // the outer region is handed back bit for bit.
+    std::shared_ptr<const CpuRest> rest_;
+    std::shared_ptr<CpuRest> building_;
     LocalFrame frame_;
     std::vector<Vec3> positions_;
-    VertexRings rings_;
-    std::vector<std::uint32_t> order_;
-    std::vector<double> s_;
     mutable std::vector<Vec3> input_order_;  // positions() for a work order
     mutable bool input_order_current_ = false;
-    Region region_;
+    Region region_;  // the sphere tool's; s is in rest_
     InnerMotion motion_;
     DeformationOptions options_;
     // Per-step work arrays, sized once. The outer region never moves, so
     // positions_, next_ and midpoints_ hold the same outer positions throughout.
-    RegionParts parts_;
     std::vector<Vec3> normals_, gradients_, next_, midpoints_;
     std::vector<Vec3> area_vectors_;  // per blend vertex, where normals_ were taken: the volume keeper's ∂V/∂x
     SmoothingScratch smoothing_;
     bool have_gradients_ = false;               // gradients_ hold the last step's ∇r
     double gradient_time_ = 0.0;                // the time gradients_ were estimated for
-    double size_ = 0.0;                         // centred_diameter at rest, in frame_'s units
-    std::vector<Vec3> sample_gradients_;        // ∇r at gauge_samples_ before this step's estimate
-    std::vector<std::uint32_t> gauge_samples_;  // the blend vertices the stream's gauge is fitted to
+    std::vector<Vec3> sample_gradients_;        // ∇r at the gauge's samples before this step's estimate
     std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
-    bool keepers_built_ = false;  // volume_ and fold_repair_, at rest (build_keepers)
-    VolumeKeeper volume_;
     FoldRepair fold_repair_;
     double volume_restored_ = 0.0;  // Σ |drift undone|
 };

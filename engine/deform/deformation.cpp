@@ -56,6 +56,9 @@ Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region 
                                              std::move(motion), options),
                   options) {}
 
+Deformation::Deformation(std::shared_ptr<const CpuRest> rest, InnerMotion motion, DeformationOptions options)
+    : Deformation(std::make_unique<CpuSteps>(std::move(rest), std::move(motion), options), options) {}
+
 // The time the next step ends at, on the way to `target`; `controlled`: the
 // step extends the schedule and its error decides whether it is taken.
 double Deformation::next_time(double target, bool& controlled) const {

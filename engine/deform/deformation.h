@@ -26,6 +26,7 @@ namespace vfsd {
 namespace gpu {
 class Texture;
 }
+struct CpuRest;
 
 // Each round at most quadruples the triangles it refines.
 constexpr int kMaxFoldRefinements = 8;
@@ -146,6 +147,9 @@ public:
     virtual std::optional<DeviceVertices> device_vertices() const { return std::nullopt; }
     // What the fold repair (deform/fold_repair.h) did so far; zero where it is off.
     virtual FoldRepairStats fold_repairs() const { return {}; }
+    // What a later CPU deformation of the same mesh, region and options may start
+    // from (deform/cpu_steps.h), once built: null until then, and on the GPU.
+    virtual std::shared_ptr<const CpuRest> cpu_rest() const { return nullptr; }
 };
 
 class Deformation {
@@ -155,6 +159,10 @@ public:
     // On the CPU (deform/cpu_steps.h); throws InputError when sizes disagree.
     Deformation(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
                 DeformationOptions options = {});
+    // On the CPU, from an earlier deformation's rest state (CpuRest::fits must
+    // hold for the mesh, region and options): the same steps, without building
+    // what does not depend on the motion again.
+    Deformation(std::shared_ptr<const CpuRest> rest, InnerMotion motion, DeformationOptions options);
 
     // Integrates toward `target` (clamped to [0,1]) taking at most `max_steps`
     // steps; returns the number taken. Throws NumericalError naming the step and
@@ -180,6 +188,7 @@ public:
     void finish() const { backend_->finish(); }
     std::optional<DeviceVertices> device_vertices() const { return backend_->device_vertices(); }
     FoldRepairStats fold_repairs() const { return backend_->fold_repairs(); }
+    std::shared_ptr<const CpuRest> cpu_rest() const { return backend_->cpu_rest(); }
 
 private:
     std::unique_ptr<StepBackend> backend_;

@@ -78,17 +78,19 @@ AffineFit fit_affine(const std::vector<Vec3>& from, const std::vector<Vec3>& to)
 
 FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings,
                        std::vector<std::uint32_t> input_index)
-    : rest_(rest), input_index_(std::move(input_index)) {
+    : at_rest_(std::make_shared<AtRest>()) {
+    at_rest_->rest = rest;
+    at_rest_->input_index = std::move(input_index);
     const auto n = static_cast<std::uint32_t>(rings.vertex_count());
-    movable_.resize(n);
-    for (std::uint32_t v = 0; v < n; ++v) movable_[v] = s[v] > 0.0 && s[v] < 1.0;
+    at_rest_->movable.resize(n);
+    for (std::uint32_t v = 0; v < n; ++v) at_rest_->movable[v] = s[v] > 0.0 && s[v] < 1.0;
     // Every triangle needed below has a corner in the blend region or its 1-ring
     // (an edge neighbour's edge neighbour of a triangle with a blend corner still
     // shares a vertex with that corner's ring), so only those are gathered: the
     // cost follows the blend region, not the mesh.
-    std::vector<std::uint8_t> near(movable_.begin(), movable_.end());
+    std::vector<std::uint8_t> near(at_rest_->movable.begin(), at_rest_->movable.end());
     for (std::uint32_t v = 0; v < n; ++v)
-        if (movable_[v])
+        if (at_rest_->movable[v])
             for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) near[rings.neighbours[k]] = 1;
     std::vector<Triangle> all;
     all.reserve(rings.neighbours.size() / 3 + 1);
@@ -103,7 +105,7 @@ FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>&
     // mean normal a turned blend triangle can reverse); needed: those and theirs.
     std::vector<std::uint8_t> level(all.size(), 0);  // 3 blend corner, 2 checked, 1 needed
     for (std::size_t t = 0; t < all.size(); ++t)
-        if (movable_[all[t][0]] || movable_[all[t][1]] || movable_[all[t][2]]) level[t] = 3;
+        if (at_rest_->movable[all[t][0]] || at_rest_->movable[all[t][1]] || at_rest_->movable[all[t][2]]) level[t] = 3;
     for (std::uint8_t lower : {2, 1})
         for (std::size_t t = 0; t < all.size(); ++t)
             if (level[t] > lower)
@@ -111,26 +113,27 @@ FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>&
                     level[neighbours.list[k]] = std::max(level[neighbours.list[k]], lower);
     std::vector<std::uint32_t> local(all.size(), 0);
     for (std::size_t t = 0; t < all.size(); ++t)
-        if (level[t] > 0) local[t] = static_cast<std::uint32_t>(triangles_.size()), triangles_.push_back(all[t]);
-    neighbour_offsets_.push_back(0);
+        if (level[t] > 0)
+            local[t] = static_cast<std::uint32_t>(at_rest_->triangles.size()), at_rest_->triangles.push_back(all[t]);
+    at_rest_->neighbour_offsets.push_back(0);
     for (std::size_t t = 0; t < all.size(); ++t) {
         if (level[t] < 2) continue;
-        check_.push_back(local[t]);
+        at_rest_->check.push_back(local[t]);
         for (std::uint32_t k = neighbours.offsets[t]; k < neighbours.offsets[t + 1]; ++k)
-            neighbours_.push_back(local[neighbours.list[k]]);
-        neighbour_offsets_.push_back(static_cast<std::uint32_t>(neighbours_.size()));
+            at_rest_->neighbours.push_back(local[neighbours.list[k]]);
+        at_rest_->neighbour_offsets.push_back(static_cast<std::uint32_t>(at_rest_->neighbours.size()));
     }
     mark_.assign(n, 0);
-    against_at_rest_.assign(check_.size(), 0);
-    for (const std::uint32_t t : folded(rest_)) against_at_rest_[t] = 1;
-    rest_facing_ = facings(rest_);
+    at_rest_->against_at_rest.assign(at_rest_->check.size(), 0);
+    for (const std::uint32_t t : folded(at_rest_->rest)) at_rest_->against_at_rest[t] = 1;
+    at_rest_->rest_facing = facings(at_rest_->rest);
     prepare_affine_test(rings);
 }
 
 namespace {
 
 // Star v's sums in x (about x[v]): its count, Σ yᵢ and Σ yᵢ pᵢᵀ over v and its
-// ring, pᵢ = rest_[i] − rest_[v], yᵢ = x[i] − x[v], and its unit normal.
+// ring, pᵢ = at_rest_->rest[i] − at_rest_->rest[v], yᵢ = x[i] − x[v], and its unit normal.
 FoldRepair::StarSums star_sums(const std::vector<Vec3>& rest, const std::vector<Vec3>& x, const VertexRings& rings,
                                std::uint32_t v) {
     FoldRepair::StarSums sums;
@@ -167,7 +170,7 @@ glm::dmat3 symmetric(const double (&m)[6]) { return glm::dmat3(m[0], m[1], m[2],
 
 }  // namespace
 
-// The fit of check_ entry i's stars minimises Σ |A pᵢ − qᵢ|² + λ |A n − m|² over
+// The fit of at_rest_->check entry i's stars minimises Σ |A pᵢ − qᵢ|² + λ |A n − m|² over
 // their points about their centres, n the triangle's unit normal at rest, m the
 // mean of its corners' star normals now, λ = 10⁻³ Σ |pᵢ|²: the stars are nearly
 // flat, their points leave A's action on n free, and the normal term fills it in
@@ -176,37 +179,40 @@ glm::dmat3 symmetric(const double (&m)[6]) { return glm::dmat3(m[0], m[1], m[2],
 // rest, and on flat stars A's action on their plane, all a triangle's image
 // needs, is the points' own least squares: any affine map is found exactly.
 void FoldRepair::prepare_affine_test(const VertexRings& rings) {
-    fit_of_.assign(rest_.size(), kNone);
-    for (const std::uint32_t i : check_)
+    at_rest_->fit_of.assign(at_rest_->rest.size(), kNone);
+    for (const std::uint32_t i : at_rest_->check)
         for (int c = 0; c < 3; ++c) {
-            const std::uint32_t v = triangles_[i][c];
-            if (fit_of_[v] == kNone)
-                fit_of_[v] = static_cast<std::uint32_t>(fit_vertices_.size()), fit_vertices_.push_back(v);
+            const std::uint32_t v = at_rest_->triangles[i][c];
+            if (at_rest_->fit_of[v] == kNone)
+                at_rest_->fit_of[v] = static_cast<std::uint32_t>(at_rest_->fit_vertices.size()),
+                at_rest_->fit_vertices.push_back(v);
         }
-    std::vector<StarSums> at_rest(fit_vertices_.size());
-    parallel_for(fit_vertices_.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t j = first; j < last; ++j) at_rest[j] = star_sums(rest_, rest_, rings, fit_vertices_[j]);
+    std::vector<StarSums> at_rest(at_rest_->fit_vertices.size());
+    parallel_for(at_rest_->fit_vertices.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t j = first; j < last; ++j)
+            at_rest[j] = star_sums(at_rest_->rest, at_rest_->rest, rings, at_rest_->fit_vertices[j]);
     });
-    for (const StarSums& star : at_rest) rest_sums_.push_back(star.sum);
-    rest_fits_.resize(check_.size());
-    affine_flags_.assign(check_.size(), 0);
-    near_.assign(rest_.size(), 0);
-    parallel_for(check_.size(), [&](std::size_t first, std::size_t last) {
+    for (const StarSums& star : at_rest) at_rest_->rest_sums.push_back(star.sum);
+    at_rest_->rest_fits.resize(at_rest_->check.size());
+    affine_flags_.assign(at_rest_->check.size(), 0);
+    near_.assign(at_rest_->rest.size(), 0);
+    parallel_for(at_rest_->check.size(), [&](std::size_t first, std::size_t last) {
         for (std::size_t i = first; i < last; ++i) {
-            const Triangle& t = triangles_[check_[i]];
-            const std::uint32_t j[3] = {fit_of_[t[0]], fit_of_[t[1]], fit_of_[t[2]]};
+            const Triangle& t = at_rest_->triangles[at_rest_->check[i]];
+            const std::uint32_t j[3] = {at_rest_->fit_of[t[0]], at_rest_->fit_of[t[1]], at_rest_->fit_of[t[2]]};
             const StarSums* stars[3] = {&at_rest[j[0]], &at_rest[j[1]], &at_rest[j[2]]};
-            const Vec3* sums[3] = {&rest_sums_[j[0]], &rest_sums_[j[1]], &rest_sums_[j[2]]};
-            const glm::dmat3 moment = joint_moment(t, rest_, rest_, stars, sums);
-            const Vec3 area = glm::cross(rest_[t[1]] - rest_[t[0]], rest_[t[2]] - rest_[t[0]]);
+            const Vec3* sums[3] = {&at_rest_->rest_sums[j[0]], &at_rest_->rest_sums[j[1]], &at_rest_->rest_sums[j[2]]};
+            const glm::dmat3 moment = joint_moment(t, at_rest_->rest, at_rest_->rest, stars, sums);
+            const Vec3 area =
+                glm::cross(at_rest_->rest[t[1]] - at_rest_->rest[t[0]], at_rest_->rest[t[2]] - at_rest_->rest[t[0]]);
             if (!(glm::length(area) > 0.0)) continue;  // weight 0: a triangle of no area is not tested
             const Vec3 normal = glm::normalize(area);
             const double weight = kStarWeight * (moment[0][0] + moment[1][1] + moment[2][2]);
             const glm::dmat3 regularised = moment + weight * glm::outerProduct(normal, normal);
             if (!(glm::determinant(regularised) != 0.0)) continue;
             const glm::dmat3 inverse = glm::inverse(regularised);
-            rest_fits_[i] = {{inverse[0][0], inverse[0][1], inverse[0][2], inverse[1][1], inverse[1][2], inverse[2][2]},
-                             weight};
+            at_rest_->rest_fits[i] = {
+                {inverse[0][0], inverse[0][1], inverse[0][2], inverse[1][1], inverse[1][2], inverse[2][2]}, weight};
         }
     });
 }
@@ -220,43 +226,43 @@ std::vector<std::uint32_t> FoldRepair::affine_folded(const std::vector<Vec3>& x,
     test_affine(x, rings, nullptr);
     std::vector<StarSums>().swap(sums_);
     std::vector<std::uint32_t> out;
-    for (std::uint32_t i = 0; i < check_.size(); ++i)
+    for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i)
         if (affine_flags_[i]) out.push_back(i);
     return out;
 }
 
-// The affine test of every check_ entry into affine_flags_, or with `moved` of
+// The affine test of every at_rest_->check entry into affine_flags_, or with `moved` of
 // those a move of these vertices can change: the entries with a corner whose
 // star holds one of them.
 void FoldRepair::test_affine(const std::vector<Vec3>& x, const VertexRings& rings,
                              const std::vector<std::uint32_t>* moved) {
-    std::vector<std::uint32_t> stars, entries;  // fit_vertices_ and check_ positions to test again
+    std::vector<std::uint32_t> stars, entries;  // at_rest_->fit_vertices and at_rest_->check positions to test again
     if (moved) {
         for (const std::uint32_t v : *moved) {
             near_[v] = 1;
             for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) near_[rings.neighbours[k]] = 1;
         }
-        for (std::uint32_t j = 0; j < fit_vertices_.size(); ++j)
-            if (near_[fit_vertices_[j]]) stars.push_back(j);
-        for (std::uint32_t i = 0; i < check_.size(); ++i) {
-            const Triangle& t = triangles_[check_[i]];
+        for (std::uint32_t j = 0; j < at_rest_->fit_vertices.size(); ++j)
+            if (near_[at_rest_->fit_vertices[j]]) stars.push_back(j);
+        for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i) {
+            const Triangle& t = at_rest_->triangles[at_rest_->check[i]];
             if (near_[t[0]] || near_[t[1]] || near_[t[2]]) entries.push_back(i);
         }
-        for (const std::uint32_t j : stars) near_[fit_vertices_[j]] = 0;
+        for (const std::uint32_t j : stars) near_[at_rest_->fit_vertices[j]] = 0;
         for (const std::uint32_t v : *moved) {
             near_[v] = 0;
             for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) near_[rings.neighbours[k]] = 0;
         }
     }
-    if (!moved) sums_.resize(fit_vertices_.size());
-    const std::size_t star_count = moved ? stars.size() : fit_vertices_.size();
+    if (!moved) sums_.resize(at_rest_->fit_vertices.size());
+    const std::size_t star_count = moved ? stars.size() : at_rest_->fit_vertices.size();
     parallel_for(star_count, [&](std::size_t first, std::size_t last) {
         for (std::size_t k = first; k < last; ++k) {
             const std::uint32_t j = moved ? stars[k] : static_cast<std::uint32_t>(k);
-            sums_[j] = star_sums(rest_, x, rings, fit_vertices_[j]);
+            sums_[j] = star_sums(at_rest_->rest, x, rings, at_rest_->fit_vertices[j]);
         }
     });
-    const std::size_t entry_count = moved ? entries.size() : check_.size();
+    const std::size_t entry_count = moved ? entries.size() : at_rest_->check.size();
     parallel_for(entry_count, [&](std::size_t first, std::size_t last) {
         for (std::size_t k = first; k < last; ++k) {
             const std::uint32_t i = moved ? entries[k] : static_cast<std::uint32_t>(k);
@@ -265,9 +271,9 @@ void FoldRepair::test_affine(const std::vector<Vec3>& x, const VertexRings& ring
     });
 }
 
-// Whether check_ entry i's image in x faces against the one its fit gives it.
+// Whether at_rest_->check entry i's image in x faces against the one its fit gives it.
 bool FoldRepair::reversed_by_fit(std::uint32_t i, const std::vector<Vec3>& x) const {
-    if (rest_fits_[i].weight == 0.0) return false;
+    if (at_rest_->rest_fits[i].weight == 0.0) return false;
     Vec3 fitted, image;
     fit_images(i, x, fitted, image);
     return glm::dot(fitted, image) <= 0.0;
@@ -275,16 +281,16 @@ bool FoldRepair::reversed_by_fit(std::uint32_t i, const std::vector<Vec3>& x) co
 
 // Check_ entry i's area vector in x, and the one its fit gives it.
 void FoldRepair::fit_images(std::uint32_t i, const std::vector<Vec3>& x, Vec3& fitted, Vec3& image) const {
-    const RestFit& fit = rest_fits_[i];
-    const Triangle& t = triangles_[check_[i]];
-    const std::uint32_t j[3] = {fit_of_[t[0]], fit_of_[t[1]], fit_of_[t[2]]};
+    const RestFit& fit = at_rest_->rest_fits[i];
+    const Triangle& t = at_rest_->triangles[at_rest_->check[i]];
+    const std::uint32_t j[3] = {at_rest_->fit_of[t[0]], at_rest_->fit_of[t[1]], at_rest_->fit_of[t[2]]};
     const StarSums* now[3] = {&sums_[j[0]], &sums_[j[1]], &sums_[j[2]]};
-    const Vec3* then[3] = {&rest_sums_[j[0]], &rest_sums_[j[1]], &rest_sums_[j[2]]};
-    const Vec3 u = rest_[t[1]] - rest_[t[0]], w = rest_[t[2]] - rest_[t[0]];
+    const Vec3* then[3] = {&at_rest_->rest_sums[j[0]], &at_rest_->rest_sums[j[1]], &at_rest_->rest_sums[j[2]]};
+    const Vec3 u = at_rest_->rest[t[1]] - at_rest_->rest[t[0]], w = at_rest_->rest[t[2]] - at_rest_->rest[t[0]];
     const Vec3 normal = glm::normalize(glm::cross(u, w));
     const Vec3 turned = now[0]->normal + now[1]->normal + now[2]->normal;
     const double length = glm::length(turned);
-    const glm::dmat3 a = (joint_moment(t, rest_, x, now, then) +
+    const glm::dmat3 a = (joint_moment(t, at_rest_->rest, x, now, then) +
                           (length > 0.0 ? fit.weight / length : 0.0) * glm::outerProduct(turned, normal)) *
                          symmetric(fit.inverse);
     image = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
@@ -302,7 +308,7 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const 
     test_affine(x, rings, moved);
     std::vector<std::uint32_t> both;
     std::size_t k = 0;
-    for (std::uint32_t i = 0; i < check_.size(); ++i) {
+    for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i) {
         const bool by_neighbours = k < out.size() && out[k] == i;
         k += by_neighbours;
         if (by_neighbours || affine_flags_[i]) both.push_back(i);
@@ -310,43 +316,44 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const 
     return both;
 }
 
-// The check_ entries (positions in check_) whose triangle faces against the mean
+// The at_rest_->check entries (positions in at_rest_->check) whose triangle faces against the mean
 // normal of its edge neighbours in x and did not at rest.
 std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x) {
-    normals_.resize(triangles_.size());
-    parallel_for(triangles_.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, triangles_[t]);
+    normals_.resize(at_rest_->triangles.size());
+    parallel_for(at_rest_->triangles.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, at_rest_->triangles[t]);
     });
-    flags_.resize(check_.size());
-    parallel_for(check_.size(), [&](std::size_t first, std::size_t last) {
+    flags_.resize(at_rest_->check.size());
+    parallel_for(at_rest_->check.size(), [&](std::size_t first, std::size_t last) {
         for (std::size_t i = first; i < last; ++i) {
             Vec3 mean(0.0);
-            for (std::uint32_t k = neighbour_offsets_[i]; k < neighbour_offsets_[i + 1]; ++k)
-                mean += normals_[neighbours_[k]];
-            flags_[i] = !against_at_rest_[i] && neighbour_offsets_[i] < neighbour_offsets_[i + 1] &&
-                        glm::dot(normals_[check_[i]], mean) < 0.0;
+            for (std::uint32_t k = at_rest_->neighbour_offsets[i]; k < at_rest_->neighbour_offsets[i + 1]; ++k)
+                mean += normals_[at_rest_->neighbours[k]];
+            flags_[i] = !at_rest_->against_at_rest[i] &&
+                        at_rest_->neighbour_offsets[i] < at_rest_->neighbour_offsets[i + 1] &&
+                        glm::dot(normals_[at_rest_->check[i]], mean) < 0.0;
         }
     });
     std::vector<std::uint32_t> out;
-    for (std::uint32_t i = 0; i < check_.size(); ++i)
+    for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i)
         if (flags_[i]) out.push_back(i);
     return out;
 }
 
-// Per check_ entry, n·Σm in x: its triangle's unit normal against the sum of
+// Per at_rest_->check entry, n·Σm in x: its triangle's unit normal against the sum of
 // its neighbours' (as folded(x) tests it; 0 without neighbours).
 std::vector<float> FoldRepair::facings(const std::vector<Vec3>& x) {
-    normals_.resize(triangles_.size());
-    parallel_for(triangles_.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, triangles_[t]);
+    normals_.resize(at_rest_->triangles.size());
+    parallel_for(at_rest_->triangles.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, at_rest_->triangles[t]);
     });
-    std::vector<float> out(check_.size());
-    parallel_for(check_.size(), [&](std::size_t first, std::size_t last) {
+    std::vector<float> out(at_rest_->check.size());
+    parallel_for(at_rest_->check.size(), [&](std::size_t first, std::size_t last) {
         for (std::size_t i = first; i < last; ++i) {
             Vec3 mean(0.0);
-            for (std::uint32_t k = neighbour_offsets_[i]; k < neighbour_offsets_[i + 1]; ++k)
-                mean += normals_[neighbours_[k]];
-            out[i] = float(glm::dot(normals_[check_[i]], mean));
+            for (std::uint32_t k = at_rest_->neighbour_offsets[i]; k < at_rest_->neighbour_offsets[i + 1]; ++k)
+                mean += normals_[at_rest_->neighbours[k]];
+            out[i] = float(glm::dot(normals_[at_rest_->check[i]], mean));
         }
     });
     return out;
@@ -358,10 +365,10 @@ std::vector<std::uint32_t> FoldRepair::vertices_to_move(const std::vector<std::u
                                                         const VertexRings& rings) {
     std::vector<std::uint32_t> out;
     const auto take = [&](std::uint32_t v) {
-        if (movable_[v] && !mark_[v]) mark_[v] = 1, out.push_back(v);
+        if (at_rest_->movable[v] && !mark_[v]) mark_[v] = 1, out.push_back(v);
     };
     for (const std::uint32_t i : folded)
-        for (int c = 0; c < 3; ++c) take(triangles_[check_[i]][c]);
+        for (int c = 0; c < 3; ++c) take(at_rest_->triangles[at_rest_->check[i]][c]);
     for (int r = 0; r < rings_out; ++r) {
         const std::size_t count = out.size();
         for (std::size_t i = 0; i < count; ++i)
@@ -379,8 +386,8 @@ void FoldRepair::refit_rings(const std::vector<std::uint32_t>& vertices, std::ve
             const std::uint32_t v = vertices[i];
             from.clear(), to.clear();
             for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
-                from.push_back(rest_[rings.neighbours[k]]), to.push_back(x[rings.neighbours[k]]);
-            moved[i] = x[v] + 0.5 * (fit_affine(from, to).apply(rest_[v]) - x[v]);
+                from.push_back(at_rest_->rest[rings.neighbours[k]]), to.push_back(x[rings.neighbours[k]]);
+            moved[i] = x[v] + 0.5 * (fit_affine(from, to).apply(at_rest_->rest[v]) - x[v]);
         }
         for (std::size_t i = 0; i < vertices.size(); ++i) x[vertices[i]] = moved[i];
     }
@@ -404,22 +411,22 @@ void FoldRepair::refit_patches(const std::vector<std::uint32_t>& vertices, std::
             }
         for (const std::uint32_t b : boundary) seen[b] = 0;  // a boundary vertex may border another patch
         std::vector<Vec3> from, to;
-        for (const std::uint32_t b : boundary) from.push_back(rest_[b]), to.push_back(x[b]);
+        for (const std::uint32_t b : boundary) from.push_back(at_rest_->rest[b]), to.push_back(x[b]);
         if (from.empty()) continue;
         const AffineFit fit = fit_affine(from, to);
         double size2 = 0.0;
         for (const Vec3& p : from) size2 += glm::dot(p - fit.from_centre, p - fit.from_centre);
         const double tolerance = 1e-12 * std::sqrt(size2 / double(from.size()));
-        for (const std::uint32_t v : patch) x[v] = fit.apply(rest_[v]);
+        for (const std::uint32_t v : patch) x[v] = fit.apply(at_rest_->rest[v]);
         for (int iteration = 0; iteration < kHarmonicIterations; ++iteration) {
             double change = 0.0;
             for (const std::uint32_t v : patch) {
                 Vec3 residual(0.0);  // the ring's mean of x − A(rest)
                 for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
                     const std::uint32_t y = rings.neighbours[k];
-                    residual += x[y] - fit.apply(rest_[y]);
+                    residual += x[y] - fit.apply(at_rest_->rest[y]);
                 }
-                const Vec3 next = fit.apply(rest_[v]) + residual / double(rings.end(v) - rings.begin(v));
+                const Vec3 next = fit.apply(at_rest_->rest[v]) + residual / double(rings.end(v) - rings.begin(v));
                 change = std::max(change, glm::length(next - x[v]));
                 x[v] = next;
             }
@@ -478,13 +485,13 @@ std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::ui
     std::vector<std::uint32_t> vertices;
     for (const std::uint32_t i : near_folded)
         for (int c = 0; c < 3; ++c) {
-            const std::uint32_t v = triangles_[check_[i]][c];
-            if (movable_[v] && !mark_[v]) mark_[v] = 1, vertices.push_back(v);
+            const std::uint32_t v = at_rest_->triangles[at_rest_->check[i]][c];
+            if (at_rest_->movable[v] && !mark_[v]) mark_[v] = 1, vertices.push_back(v);
         }
     // The input's order: no turn or mirror image of the mesh changes it (the
-    // order of check_ follows the triangles' winding, the steps' order the rings).
+    // order of at_rest_->check follows the triangles' winding, the steps' order the rings).
     std::sort(vertices.begin(), vertices.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return input_index_.empty() ? a < b : input_index_[a] < input_index_[b];
+        return at_rest_->input_index.empty() ? a < b : at_rest_->input_index[a] < at_rest_->input_index[b];
     });
     // The entries a move of v can change: by the neighbour test those with v a
     // corner of their triangle or of a neighbour's (entries_of[v]); by the affine
@@ -496,29 +503,31 @@ std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::ui
     const auto add = [](std::vector<std::uint32_t>& list, std::uint32_t i) {
         if (list.empty() || list.back() != i) list.push_back(i);
     };
-    for (std::uint32_t i = 0; i < check_.size(); ++i) {
-        const Triangle& t = triangles_[check_[i]];
+    for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i) {
+        const Triangle& t = at_rest_->triangles[at_rest_->check[i]];
         for (int c = 0; c < 3; ++c) {
             if (mark_[t[c]]) add(entries_of[t[c]], i);
             if (mark_[t[c]] || near_[t[c]]) add(entries_at[t[c]], i);
         }
-        for (std::uint32_t k = neighbour_offsets_[i]; k < neighbour_offsets_[i + 1]; ++k)
+        for (std::uint32_t k = at_rest_->neighbour_offsets[i]; k < at_rest_->neighbour_offsets[i + 1]; ++k)
             for (int c = 0; c < 3; ++c)
-                if (mark_[triangles_[neighbours_[k]][c]]) add(entries_of[triangles_[neighbours_[k]][c]], i);
+                if (mark_[at_rest_->triangles[at_rest_->neighbours[k]][c]])
+                    add(entries_of[at_rest_->triangles[at_rest_->neighbours[k]][c]], i);
     }
     for (const std::uint32_t v : vertices) {
         mark_[v] = 0;
         for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) near_[rings.neighbours[k]] = 0;
     }
     if (!affine_test) {  // the sums of every star the affine test of those entries reads
-        sums_.resize(fit_vertices_.size());
+        sums_.resize(at_rest_->fit_vertices.size());
         std::vector<std::uint32_t> needed;
         for (const auto& [u, list] : entries_at)
             for (const std::uint32_t i : list)
-                for (int c = 0; c < 3; ++c) needed.push_back(fit_of_[triangles_[check_[i]][c]]);
+                for (int c = 0; c < 3; ++c)
+                    needed.push_back(at_rest_->fit_of[at_rest_->triangles[at_rest_->check[i]][c]]);
         std::sort(needed.begin(), needed.end());
         needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
-        for (const std::uint32_t j : needed) sums_[j] = star_sums(rest_, x, rings, fit_vertices_[j]);
+        for (const std::uint32_t j : needed) sums_[j] = star_sums(at_rest_->rest, x, rings, at_rest_->fit_vertices[j]);
     }
     std::vector<std::uint32_t> moved, entries, stars;
     std::vector<Vec3> directions, ties;
@@ -527,25 +536,27 @@ std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::ui
         stars.clear();
         for (std::uint32_t k = rings.begin(v); k <= rings.end(v); ++k) {
             const std::uint32_t u = k < rings.end(v) ? rings.neighbours[k] : v;
-            if (fit_of_[u] != kNone) stars.push_back(fit_of_[u]);
+            if (at_rest_->fit_of[u] != kNone) stars.push_back(at_rest_->fit_of[u]);
             const std::vector<std::uint32_t>& at = entries_at[u];
             entries.insert(entries.end(), at.begin(), at.end());
         }
         std::sort(entries.begin(), entries.end());
         entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
         const auto score = [&](int scale) {
-            for (const std::uint32_t j : stars) sums_[j] = star_sums(rest_, x, rings, fit_vertices_[j]);
+            for (const std::uint32_t j : stars)
+                sums_[j] = star_sums(at_rest_->rest, x, rings, at_rest_->fit_vertices[j]);
             SearchScore out;
             out.scale = scale;
             for (const std::uint32_t i : entries) {
                 double facing = 1.0;
-                if (!against_at_rest_[i] && neighbour_offsets_[i] < neighbour_offsets_[i + 1]) {
+                if (!at_rest_->against_at_rest[i] &&
+                    at_rest_->neighbour_offsets[i] < at_rest_->neighbour_offsets[i + 1]) {
                     Vec3 mean(0.0);
-                    for (std::uint32_t k = neighbour_offsets_[i]; k < neighbour_offsets_[i + 1]; ++k)
-                        mean += unit_normal(x, triangles_[neighbours_[k]]);
-                    facing = glm::dot(unit_normal(x, triangles_[check_[i]]), mean);
+                    for (std::uint32_t k = at_rest_->neighbour_offsets[i]; k < at_rest_->neighbour_offsets[i + 1]; ++k)
+                        mean += unit_normal(x, at_rest_->triangles[at_rest_->neighbours[k]]);
+                    facing = glm::dot(unit_normal(x, at_rest_->triangles[at_rest_->check[i]]), mean);
                     out.least = std::min(out.least, facing);
-                    out.short_of += std::max(0.0, kSearchMargin * double(rest_facing_[i]) - facing);
+                    out.short_of += std::max(0.0, kSearchMargin * double(at_rest_->rest_facing[i]) - facing);
                 }
                 out.neighbour += facing < 0.0;
                 out.folded += facing < 0.0 || reversed_by_fit(i, x);
@@ -659,8 +670,8 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
             // image of a fold, which rounding left unfolded, is treated alike).
             const std::vector<float> now_facing = facings(x);
             std::vector<std::uint32_t> near_folded;
-            for (std::uint32_t i = 0; i < check_.size(); ++i)
-                if ((!against_at_rest_[i] && now_facing[i] < kSearchMargin * rest_facing_[i]) ||
+            for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i)
+                if ((!at_rest_->against_at_rest[i] && now_facing[i] < kSearchMargin * at_rest_->rest_facing[i]) ||
                     (affine_test && affine_flags_[i]))
                     near_folded.push_back(i);
             std::vector<std::pair<std::uint32_t, Vec3>> undo;
@@ -685,14 +696,16 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
     return fewest.second;
 }
 
-std::size_t FoldRepair::bytes() const {
-    return rest_.capacity() * sizeof(Vec3) + input_index_.capacity() * sizeof(std::uint32_t) + movable_.capacity() +
-           triangles_.capacity() * sizeof(Triangle) +
-           (check_.capacity() + neighbour_offsets_.capacity() + neighbours_.capacity()) * sizeof(std::uint32_t) +
-           against_at_rest_.capacity() + flags_.capacity() + normals_.capacity() * sizeof(Vec3) + mark_.capacity() +
-           (fit_vertices_.capacity() + fit_of_.capacity()) * sizeof(std::uint32_t) +
-           rest_sums_.capacity() * sizeof(Vec3) + sums_.capacity() * sizeof(StarSums) +
-           rest_fits_.capacity() * sizeof(RestFit) + affine_flags_.capacity() + near_.capacity();
+std::size_t FoldRepair::bytes(bool shared) const {
+    const auto capacity = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+    const std::size_t scratch = capacity(normals_) + capacity(flags_) + capacity(mark_) + capacity(sums_) +
+                                capacity(affine_flags_) + capacity(near_);
+    if (!shared) return scratch;
+    const AtRest& r = *at_rest_;
+    return scratch + capacity(r.rest) + capacity(r.input_index) + capacity(r.movable) + capacity(r.triangles) +
+           capacity(r.check) + capacity(r.neighbour_offsets) + capacity(r.neighbours) + capacity(r.against_at_rest) +
+           capacity(r.rest_facing) + capacity(r.fit_vertices) + capacity(r.fit_of) + capacity(r.rest_sums) +
+           capacity(r.rest_fits);
 }
 
 }  // namespace vfsd

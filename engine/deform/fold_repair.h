@@ -54,6 +54,7 @@
 // "Does the fold count measure folds?").
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/mat3x3.hpp>
@@ -92,7 +93,7 @@ public:
     FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings,
                std::vector<std::uint32_t> input_index = {});
 
-    bool active() const { return !check_.empty(); }
+    bool active() const { return !at_rest_->check.empty(); }
     // Whether the affine test runs after the step from time `from` to `to`: when
     // it passes a multiple of 1/5 (either way), so that the test follows how far
     // the deformation went, not how many steps it took, and scrubbing back and
@@ -112,8 +113,12 @@ public:
     // The check entries (as in checks()) the affine test finds folded in `positions`.
     std::vector<std::uint32_t> affine_folded(const std::vector<Vec3>& positions, const VertexRings& rings);
     const FoldRepairStats& stats() const { return stats_; }
-    FoldChecks checks() const { return {triangles_, check_, neighbour_offsets_, neighbours_, against_at_rest_}; }
-    std::size_t bytes() const;
+    FoldChecks checks() const {
+        const AtRest& r = *at_rest_;
+        return {r.triangles, r.check, r.neighbour_offsets, r.neighbours, r.against_at_rest};
+    }
+    // Bytes held; `shared`: with what copies share (the state at rest).
+    std::size_t bytes(bool shared = true) const;
 
     // The affine test's sums of one star, and its fit of one triangle at rest:
     // the inverse of its regularised second moment (symmetric: xx, xy, xz, yy,
@@ -146,27 +151,32 @@ private:
                                                std::vector<std::pair<std::uint32_t, Vec3>>& undo);
     void refit_patches(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x, const VertexRings& rings);
 
-    std::vector<Vec3> rest_;
-    std::vector<std::uint32_t> input_index_;
-    std::vector<std::uint8_t> movable_;  // 1 on the blend region
-    // The triangles with a blend corner (check_) and their edge neighbours; the
-    // neighbours of check_[i] are triangles_[neighbours_[neighbour_offsets_[i] ..]].
-    std::vector<Triangle> triangles_;
-    std::vector<std::uint32_t> check_, neighbour_offsets_, neighbours_;
-    std::vector<std::uint8_t> against_at_rest_;  // per check_ entry
-    std::vector<float> rest_facing_;             // per check_ entry: facings(rest)
-    std::vector<Vec3> normals_;                  // per triangles_ entry, scratch
-    std::vector<std::uint8_t> flags_;            // per check_ entry, scratch
+    // What the constructor finds at rest: shared by copies (a deformation started
+    // from another's rest state, deform/cpu_steps.h), written by the constructor only.
+    struct AtRest {
+        std::vector<Vec3> rest;
+        std::vector<std::uint32_t> input_index;
+        std::vector<std::uint8_t> movable;  // 1 on the blend region
+        // The triangles with a blend corner (check) and their edge neighbours; the
+        // neighbours of check[i] are triangles[neighbours[neighbour_offsets[i] ..]].
+        std::vector<Triangle> triangles;
+        std::vector<std::uint32_t> check, neighbour_offsets, neighbours;
+        std::vector<std::uint8_t> against_at_rest;  // per check entry
+        std::vector<float> rest_facing;             // per check entry: facings(rest)
+        // The affine test's data (see prepare_affine_test): its vertices (the
+        // corners of the checked triangles; fit_of[v] indexes them, or kNone) with
+        // their stars' sums at rest, and per check entry what its fit keeps from rest.
+        std::vector<std::uint32_t> fit_vertices, fit_of;
+        std::vector<Vec3> rest_sums;     // per fit vertex: its star's Σ pᵢ at rest
+        std::vector<RestFit> rest_fits;  // per check entry
+    };
+    std::shared_ptr<AtRest> at_rest_ = std::make_shared<AtRest>();
+    std::vector<Vec3> normals_;                  // per triangles entry, scratch
+    std::vector<std::uint8_t> flags_;            // per check entry, scratch
     std::vector<std::uint8_t> mark_;             // per vertex, scratch
-    // The affine test's data (see prepare_affine_test): its vertices (the corners
-    // of the checked triangles; fit_of_[v] indexes them, or kNone) with their
-    // stars' sums, and per check_ entry what its fit keeps from rest.
-    std::vector<std::uint32_t> fit_vertices_, fit_of_;
-    std::vector<Vec3> rest_sums_;             // per fit vertex: its star's Σ pᵢ at rest
-    std::vector<StarSums> sums_;              // per fit vertex, now: held only while a repair runs
-    std::vector<RestFit> rest_fits_;          // per check_ entry
-    std::vector<std::uint8_t> affine_flags_;  // per check_ entry: the affine test's last result
-    std::vector<std::uint8_t> near_;          // per vertex, scratch
+    std::vector<StarSums> sums_;                 // per fit vertex, now: held only while a repair runs
+    std::vector<std::uint8_t> affine_flags_;     // per check entry: the affine test's last result
+    std::vector<std::uint8_t> near_;             // per vertex, scratch
     FoldRepairStats stats_;
     bool acted_ = false;
 };

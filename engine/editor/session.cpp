@@ -8,6 +8,7 @@
 
 #include "base/error.h"
 #include "curve/curve_on_region.h"
+#include "deform/cpu_steps.h"
 #include "deform/quality.h"
 #include "mesh/geometry.h"
 #include "mesh/validation.h"
@@ -614,6 +615,7 @@ void EditorSession::drop_deformation() {
     // The next deformation starts afresh: the last one's error goes with it.
     runtime_error_.clear();
     const bool deformed = static_cast<bool>(deformation_);
+    if (deformed && deformation_->cpu_rest()) rest_ = deformation_->cpu_rest();
     deformation_.reset();
     stats_.ms_per_step = 0.0;
     predict_backend();
@@ -657,7 +659,16 @@ void EditorSession::ensure_deformation() {
             reason = e.what();
         }
     }
-    if (!deformation_) deformation_ = std::move(prepared).start_deformation();
+    if (!deformation_) {
+        // A curve edit keeps the mesh, the region and the options: what the last
+        // run built at rest is the same (the steps are, bit for bit).
+        const DeformationOptions& options = prepared.scene.options;
+        if (rest_ && rest_->fits(doc_.file.mesh.positions, doc_.rings, region_, options))
+            deformation_.emplace(rest_, std::move(prepared.motion), options);
+        else
+            deformation_ = std::move(prepared).start_deformation();
+    }
+    rest_.reset();  // the deformation holds it, or it no longer fits
     stats_.backend = deformation_->backend_name();
     stats_.backend_reason = stats_.backend == "gpu" ? "" : reason;
 }

@@ -305,6 +305,9 @@ private:
     MotionSpec pending_curve_;
 
     std::optional<Deformation> deformation_;
+    // The last CPU deformation's rest state: a curve edit's run starts from it
+    // when the mesh, the region and the options are the same (deform/cpu_steps.h).
+    std::shared_ptr<const CpuRest> rest_;
     std::optional<std::vector<Vec3>> held_;  // positions() while an edit's run catches up (restart_after_edit)
     SessionStats stats_;
     std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1, document_revision_ = 1;

@@ -1,5 +1,5 @@
 // An edit while a result is on show, on the CPU path with a mesh large enough
-// that the run spans many frames (the 41k sphere): the curve's end dragged after
+// that the run spans many frames (the 163k sphere): the curve's end dragged after
 // a run to t = 1. While the new run catches up the page keeps the last result on
 // show, keeps rendering (the time bar, the dragged curve) and says that it is
 // updating; at t = 1 it shows the new result. The checks count what happened,
@@ -9,7 +9,7 @@ import { openPage, check } from './harness.mjs';
 const { page, errors, close } = await openPage('?backend=cpu');
 const api = (fn, arg) => page.evaluate(fn, arg);
 try {
-  await api((m) => window.vfsd.open(m), 'builtin:sphere:6');
+  await api((m) => window.vfsd.open(m), 'builtin:sphere:7');
   const s = await api(() => window.vfsd.state());
   const c = s.control_points;
   const region = { kind: 'geodesic', seed: c[0], g_min: 0.1 * s.diagonal, g_max: 0.45 * s.diagonal };

@@ -10,7 +10,8 @@
 // renderer). With VFSD_NATIVE set to a native `vfsd`, the page's edited scene is
 // also timed natively by `vfsd bench --latency --scene` (its curve edit or region
 // edit: the mesh open, the region computed for a region edit, the motion built,
-// integrated to t = 1) on one thread and on all, and the ratios printed.
+// integrated to t = 1; a curve edit from the rest state the last run kept, as the
+// page's) on one thread and on all, and the ratios printed.
 //   VFSD_WEB_SITE=build/web/site VFSD_NATIVE=$PWD/build/release/vfsd node web/tests/latency.mjs [builtin:sphere:6 ...]
 // (scripts/build-web first; docs/web.md has the figures.)
 import { execFileSync } from 'node:child_process';
@@ -30,9 +31,11 @@ function native(scene, threads) {
   const out = execFileSync(process.env.VFSD_NATIVE, args, { encoding: 'utf8' });
   const line = out.split('\n').find((l) => l.startsWith('edited '));
   if (!line) throw new Error(`vfsd bench --latency printed no result:\n${out}`);
-  // edited  VERTICES  REGION ms  CURVE-EDIT ms  REGION-EDIT ms  STEPS ...
+  // edited  VERTICES  REGION ms  CURVE-EDIT ms  REST-KEPT ms  REGION-EDIT ms  STEPS ...
+  // The page's drag follows a run on the same region: like the editors, it starts
+  // from that run's rest state, so it is compared with the curve edit that does.
   const f = line.trim().split(/\s+/);
-  return { curve: Number(f[4]), region: Number(f[6]), steps: Number(f[8]) };
+  return { curve: Number(f[6]), region: Number(f[8]), steps: Number(f[10]) };
 }
 
 // Runs `edit` on the page and waits until the deformation is back at t = 1.
