@@ -144,10 +144,12 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
         check_finite(next_, step, time);
     }
     positions_.swap(next_);
+    input_order_current_ = false;
+    if (region_.sphere_tool) return result;  // the sphere tool has neither a volume keeper nor a fold repair
     // The volume drift is undone after every step, while it is small and smooth
     // (restoring it every few steps folded thin features); it is then part of
     // the step's map, and a step back undoes it as well.
-    if (!region_.sphere_tool) volume_restored_ += std::abs(rest_->volume.restore(positions_, area_vectors_));
+    volume_restored_ += std::abs(rest_->volume.restore(positions_, area_vectors_));
     // Then the fold repair, which sees what the keeper's move folded too (a
     // needle's corner pushed across its base). A repair moves vertices up to an
     // edge: the keeper's ∂V/∂x from the step's midpoint no longer describes
@@ -162,7 +164,6 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
             volume_restored_ += std::abs(rest_->volume.restore(positions_, area_vectors_));
         }
     }
-    input_order_current_ = false;
     return result;
 }
 

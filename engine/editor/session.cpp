@@ -248,6 +248,7 @@ void EditorSession::replace_document(Document doc) {
     stats_.triangles = doc_.file.mesh.triangle_count();
     held_.reset();
     drop_deformation();
+    rest_.reset();  // of another mesh: freed now, not when the next run starts
     changed(mesh_replaced);
     refresh_curve_warnings();
     // The picker's hierarchy now, with the rest of the opening, rather than in
@@ -798,6 +799,7 @@ void EditorSession::apply_edit(const Edit& edit, bool forward) {
         doc_.scene.motion = forward ? b->motion_after : b->motion_before;
         held_.reset();  // new base positions: nothing of the last run stays on show
         drop_deformation();
+        rest_.reset();
         diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
         base_moved_stats();
         changed(base_moved);
