@@ -92,8 +92,9 @@ private:
     GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
 
     // rest_ holds what does not change over the steps (null for the sphere tool);
-    // building_ is the same object while this deformation builds it, null once
-    // it is complete or when it came complete. positions_ are in the work order
+    // building_ is the same object where this deformation built it (null where
+    // it came built): build_keepers and the first estimate at rest write to it,
+    // before cpu_rest() hands it out, and nothing after. positions_ are in the work order
     // and the local frame (the identity for the sphere tool); input_order_ holds
     // the input's positions, of which positions() overwrites the moving ones, so
     // the outer region is handed back bit for bit.
