@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "base/error.h"
@@ -13,7 +14,9 @@
 #include "mesh/vertex_order.h"
 
 namespace vfsd {
+namespace {
 
+// A hash of the rings' vertex lists (FNV-1a), to tell meshes apart cheaply.
 std::uint64_t hash_rings(const VertexRings& rings) {
     std::uint64_t hash = 1469598103934665603ull;
     const auto add = [&](std::uint32_t x) { hash = (hash ^ x) * 1099511628211ull; };
@@ -21,6 +24,8 @@ std::uint64_t hash_rings(const VertexRings& rings) {
     for (const std::uint32_t x : rings.neighbours) add(x);
     return hash;
 }
+
+}  // namespace
 
 // The steps of two deformations are the same from the same rest state when these agree.
 bool CpuRest::fits(const std::vector<Vec3>& positions, const VertexRings& input_rings, const Region& region,
@@ -69,6 +74,7 @@ CpuSteps::CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region
 
 CpuSteps::CpuSteps(std::shared_ptr<const CpuRest> rest, InnerMotion motion, DeformationOptions options)
     : rest_(std::move(rest)), motion_(std::move(motion)), options_(options) {
+    if (!rest_ || !rest_->keepers_built) throw std::invalid_argument("CpuSteps: a rest state not yet built");
     start_from_rest();
 }
 

@@ -27,7 +27,7 @@ namespace vfsd {
 struct CpuRest {
     // The input it was built from, to tell whether another deformation fits it.
     std::vector<Vec3> input_positions;  // in the input's order
-    std::uint64_t rings_hash = 0;       // of the input's rings (hash_rings)
+    std::uint64_t rings_hash = 0;       // of the input's rings (FNV-1a over their lists)
     DeformationOptions options;
     // In the work order: vertex i is input vertex order[i] (mesh/vertex_order.h),
     // positions in frame's local coordinates (deform/local_frame.h).
@@ -53,16 +53,14 @@ struct CpuRest {
     std::size_t bytes() const;
 };
 
-// A hash of the rings' vertex lists (FNV-1a), to tell meshes apart cheaply.
-std::uint64_t hash_rings(const VertexRings& rings);
-
 class CpuSteps final : public StepBackend {
 public:
     // Throws InputError when sizes disagree.
     CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,
              DeformationOptions options);
-    // From what an earlier deformation built at rest (CpuRest::fits must hold for
-    // it: the same mesh, region and options).
+    // From what an earlier deformation built at rest, as its cpu_rest() handed it
+    // out (CpuRest::fits must hold for it: the same mesh, region and options);
+    // std::invalid_argument for a rest state not yet built.
     CpuSteps(std::shared_ptr<const CpuRest> rest, InnerMotion motion, DeformationOptions options);
 
     const char* name() const override { return "cpu"; }

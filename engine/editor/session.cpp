@@ -616,7 +616,8 @@ void EditorSession::drop_deformation() {
     // The next deformation starts afresh: the last one's error goes with it.
     runtime_error_.clear();
     const bool deformed = static_cast<bool>(deformation_);
-    if (deformed && deformation_->cpu_rest()) rest_ = deformation_->cpu_rest();
+    if (deformed)
+        if (auto rest = deformation_->cpu_rest()) rest_ = std::move(rest);
     deformation_.reset();
     stats_.ms_per_step = 0.0;
     predict_backend();
