@@ -325,13 +325,20 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x) {
     });
     flags_.resize(at_rest_->check.size());
     parallel_for(at_rest_->check.size(), [&](std::size_t first, std::size_t last) {
+        const AtRest& rest = *at_rest_;
         for (std::size_t i = first; i < last; ++i) {
-            Vec3 mean(0.0);
-            for (std::uint32_t k = at_rest_->neighbour_offsets[i]; k < at_rest_->neighbour_offsets[i + 1]; ++k)
-                mean += normals_[at_rest_->neighbours[k]];
-            flags_[i] = !at_rest_->against_at_rest[i] &&
-                        at_rest_->neighbour_offsets[i] < at_rest_->neighbour_offsets[i + 1] &&
-                        glm::dot(normals_[at_rest_->check[i]], mean) < 0.0;
+            const std::uint32_t begin = rest.neighbour_offsets[i], end = rest.neighbour_offsets[i + 1];
+            if (rest.against_at_rest[i] || begin == end) {
+                flags_[i] = 0;
+                continue;
+            }
+            double x = 0.0, y = 0.0, z = 0.0;  // the neighbours' normals' sum, in scalars (geometry.cpp's ring sums)
+            for (std::uint32_t k = begin; k < end; ++k) {
+                const Vec3& m = normals_[rest.neighbours[k]];
+                x += m.x, y += m.y, z += m.z;
+            }
+            const Vec3& n = normals_[rest.check[i]];
+            flags_[i] = n.x * x + n.y * y + n.z * z < 0.0;
         }
     });
     std::vector<std::uint32_t> out;

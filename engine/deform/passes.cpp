@@ -148,23 +148,26 @@ void tangent_basis(const Vec3& n, Vec3& t1, Vec3& t2) {
 // threshold float resolves, so that both passes call the same rings singular.
 constexpr double kFlatRing = 1e-6;
 
-Vec3 ring_gradient(const std::vector<Vec3>& positions, const Vec3& n, const std::vector<double>& s,
-                   const VertexRings& rings, std::uint32_t v) {
+// In scalars, as estimate_normals' ring sums (mesh/geometry.cpp): the same
+// operations in the same order as the Vec3 form, without its stack traffic.
+Vec3 ring_gradient(const Vec3* positions, const Vec3& n, const double* s, const VertexRings& rings, std::uint32_t v) {
     if (n == Vec3(0.0)) return Vec3(0.0);
     Vec3 t1, t2;
     tangent_basis(n, t1, t2);
-    const Vec3 x = positions[v];
+    const double x = positions[v].x, y = positions[v].y, z = positions[v].z, sv = s[v];
+    const std::uint32_t* neighbours = rings.neighbours.data();
     double a11 = 0.0, a12 = 0.0, a22 = 0.0, r1 = 0.0, r2 = 0.0;
-    for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
-        const std::uint32_t y = rings.neighbours[k];
-        const Vec3 d = positions[y] - x;
-        const double p1 = glm::dot(d, t1), p2 = glm::dot(d, t2), ds = s[y] - s[v];
+    for (std::uint32_t k = rings.offsets[v], end = rings.offsets[v + 1]; k < end; ++k) {
+        const std::uint32_t w = neighbours[k];
+        const double dx = positions[w].x - x, dy = positions[w].y - y, dz = positions[w].z - z;
+        const double p1 = dx * t1.x + dy * t1.y + dz * t1.z, p2 = dx * t2.x + dy * t2.y + dz * t2.z, ds = s[w] - sv;
         a11 += p1 * p1, a12 += p1 * p2, a22 += p2 * p2;
         r1 += p1 * ds, r2 += p2 * ds;
     }
     const double scale = a11 + a22, det = a11 * a22 - a12 * a12;
     if (!(det > kFlatRing * scale * scale)) return Vec3(0.0);
-    return ((a22 * r1 - a12 * r2) * t1 + (a11 * r2 - a12 * r1) * t2) / det;
+    const double c1 = a22 * r1 - a12 * r2, c2 = a11 * r2 - a12 * r1;
+    return Vec3((c1 * t1.x + c2 * t2.x) / det, (c1 * t1.y + c2 * t2.y) / det, (c1 * t1.z + c2 * t2.z) / det);
 }
 
 }  // namespace
@@ -212,7 +215,9 @@ void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Ve
                         const std::vector<double>& s, const VertexRings& rings,
                         const std::vector<std::uint32_t>& blend, std::vector<Vec3>& gradients) {
     if (gradients.size() != positions.size()) gradients.assign(positions.size(), Vec3(0.0));
-    for_each_vertex(blend, [&](std::uint32_t v) { gradients[v] = ring_gradient(positions, normals[v], s, rings, v); });
+    for_each_vertex(blend, [&](std::uint32_t v) {
+        gradients[v] = ring_gradient(positions.data(), normals[v], s.data(), rings, v);
+    });
 }
 
 void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts, int steps, double weight,

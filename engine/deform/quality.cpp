@@ -12,12 +12,6 @@
 
 namespace vfsd {
 
-Vec3 unit_normal(const std::vector<Vec3>& x, const Triangle& t) {
-    const Vec3 n = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
-    const double len = glm::length(n);
-    return len > 0.0 ? n / len : Vec3(0.0);
-}
-
 namespace {
 
 bool is_finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }

@@ -3,6 +3,7 @@
 // change (sec. 7.1, volume as in sec. 7.2), local foldovers, and whether the
 // outer region stayed put and the inner region moved rigidly.
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -36,8 +37,17 @@ DeformationQuality measure_quality(const std::vector<Vec3>& before, const std::v
 // True when every edge of `triangles` belongs to exactly two triangles.
 bool is_closed_surface(const std::vector<Triangle>& triangles);
 
-// Triangle t's unit normal in x (0 for a degenerate triangle).
-Vec3 unit_normal(const std::vector<Vec3>& x, const Triangle& t);
+// Triangle t's unit normal in x (0 for a degenerate triangle). Inline and in
+// scalars: the fold test takes it for every triangle near the blend region on
+// every step, and glm's Vec3 temporaries went through the stack (the same
+// operations in the same order as glm's cross, length and division).
+inline Vec3 unit_normal(const std::vector<Vec3>& x, const Triangle& t) {
+    const Vec3 &a = x[t[0]], &b = x[t[1]], &c = x[t[2]];
+    const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z, wx = c.x - a.x, wy = c.y - a.y, wz = c.z - a.z;
+    const double nx = uy * wz - wy * uz, ny = uz * wx - wz * ux, nz = ux * wy - wx * uy;
+    const double length = std::sqrt(nx * nx + ny * ny + nz * nz);
+    return length > 0.0 ? Vec3(nx / length, ny / length, nz / length) : Vec3(0.0);
+}
 
 // The indices of the triangles count_flipped_triangles counts.
 std::vector<std::uint32_t> flipped_triangle_list(const std::vector<Vec3>& before, const std::vector<Vec3>& after,

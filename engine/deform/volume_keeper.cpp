@@ -36,9 +36,16 @@ VolumeKeeper::VolumeKeeper(const std::vector<Vec3>& rest, const std::vector<doub
 }
 
 double VolumeKeeper::moving_volume(const std::vector<Vec3>& p) const {
-    const auto six_volume = [&](std::size_t i) {  // of triangle i's tetrahedron with the centre
+    // Of triangle i's tetrahedron with the centre: (a − c) · ((b − c) × (d − c)), in
+    // scalars (glm's Vec3 temporaries went through the stack; the same operations
+    // in the same order).
+    const double cx = centre_.x, cy = centre_.y, cz = centre_.z;
+    const auto six_volume = [&](std::size_t i) {
         const Triangle& t = moving_[i];
-        return glm::dot(p[t.x] - centre_, glm::cross(p[t.y] - centre_, p[t.z] - centre_));
+        const Vec3 &a = p[t.x], &b = p[t.y], &d = p[t.z];
+        const double ax = a.x - cx, ay = a.y - cy, az = a.z - cz;
+        const double bx = b.x - cx, by = b.y - cy, bz = b.z - cz, dx = d.x - cx, dy = d.y - cy, dz = d.z - cz;
+        return ax * (by * dz - dy * bz) + ay * (bz * dx - dz * bx) + az * (bx * dy - dx * by);
     };
     return parallel_sum(moving_.size(), six_volume) / 6.0;
 }
