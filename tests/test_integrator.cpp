@@ -219,6 +219,28 @@ TEST_CASE("error-controlled steps keep each estimate within the tolerance, land 
     }
 }
 
+TEST_CASE("a first step estimated far over the tolerance is tried again once, as short as its estimate asks",
+          "[deformation][integrator][step-control]") {
+    // The estimate grows as h², as the control assumes: the retry at
+    // 0.9 √(tolerance / E) of the first step's length is within the tolerance
+    // whenever that factor is at least StepControl::kMostShrinkRetry (E up to 81
+    // tolerances; the raised claw's first step was estimated at 34), and at most
+    // half the step's length.
+    for (const double over : {2.0, 10.0, 30.0, 60.0, 80.0}) {
+        const double tolerance = 1e-3;
+        const double scale = over * tolerance / (StepControl::kFirstStep * StepControl::kFirstStep);
+        Record record;
+        Deformation d = controlled(record, tolerance, {scale, {}});
+        CAPTURE(over);
+        REQUIRE(d.advance(1.0, 1) == 1);
+        CHECK(record.refused == 1);
+        REQUIRE(record.calls.size() == 1);
+        const double retry = record.calls[0].h;
+        CHECK(retry == Approx(StepControl::kFirstStep * std::min(0.5, 0.9 / std::sqrt(over))).epsilon(1e-12));
+        CHECK(scale * retry * retry <= tolerance);
+    }
+}
+
 TEST_CASE("error-controlled steps take about twice as many steps for a quarter of the tolerance",
           "[deformation][integrator][step-control]") {
     // The estimate grows as h², so the steps needed grow as 1 / √tolerance.

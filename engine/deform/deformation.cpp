@@ -38,6 +38,11 @@ double StepControl::next_length(double h, double error, double tolerance) {
     return std::clamp(std::abs(h) * factor, kShortestStep, kLongestStep);
 }
 
+double StepControl::retry_length(double h, double error, double tolerance) {
+    const double factor = error > 0.0 ? std::clamp(kSafety * std::sqrt(tolerance / error), kMostShrinkRetry, 0.5) : 0.5;
+    return std::max(std::abs(h) * factor, kShortestStep);
+}
+
 NumericalError nonfinite_position(std::size_t vertex, int step, double time) {
     return NumericalError("integration step " + std::to_string(step) + " (t = " + std::to_string(time) +
                           ") made vertex " + std::to_string(vertex) + " non-finite; the mesh before that step is kept");
@@ -95,13 +100,13 @@ void Deformation::note_step(double next, bool controlled, const StepResult& resu
         ++errors_.estimated_steps;
     }
     if (!controlled) return;
-    const double length = StepControl::next_length(h, std::max(result.error, 0.0), options_.tolerance);
     if (!result.taken) {
         ++errors_.rejected;
-        next_length_ = std::min(length, 0.5 * h);
+        next_length_ = StepControl::retry_length(h, std::max(result.error, 0.0), options_.tolerance);
         just_rejected_ = true;
         return;
     }
+    const double length = StepControl::next_length(h, std::max(result.error, 0.0), options_.tolerance);
     grid_.push_back(next);
     // A step cut short by a join or the target says little about a longer one;
     // the step after a rejected one does not grow (it would be rejected again).

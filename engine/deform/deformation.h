@@ -86,6 +86,13 @@ struct StepControl {
     // The next step's length after a step of length h with estimated error
     // `error` (the estimate grows as h², sec. "Error-controlled steps" of docs/method.md).
     static double next_length(double h, double error, double tolerance);
+    // The length to try after a step of length h rejected with estimated error
+    // `error`: h · 0.9 √(tolerance / error) as well, at most h / 2, and at least
+    // h / 10 rather than kMostShrink's h / 5, which after an estimate far over
+    // the tolerance (the raised claw's first step of 1/32: 34 times) left the
+    // retry too long, and rejected again.
+    static constexpr double kMostShrinkRetry = 0.1;
+    static double retry_length(double h, double error, double tolerance);
 };
 
 // What the step control saw: its estimates are relative to the mesh's size (centred_diameter).
