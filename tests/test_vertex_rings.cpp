@@ -1,11 +1,16 @@
 #include <catch2/catch.hpp>
 
 #include <cstdint>
+#include <random>
 
+#include <glm/geometric.hpp>
+
+#include "deform/quality.h"
 #include "mesh/builtin_meshes.h"
 #include "mesh/geometry.h"
 #include "mesh/vertex_order.h"
 #include "mesh/vertex_rings.h"
+#include "mesh_fixtures.h"
 
 using namespace vfsd;
 
@@ -82,4 +87,37 @@ TEST_CASE("the breadth-first order is a permutation and reorder_rings renumbers 
     // Breadth-first on a connected mesh: every vertex but the first is found
     // from one listed before it.
     CHECK(reached_from_earlier == order.size() - 1);
+}
+
+TEST_CASE("the ring sums and the triangle normals in scalars are glm's cross products, to the bit", "[mesh]") {
+    // The normal pass, the volume keeper and the fold test compute them in
+    // scalars (mesh/geometry.cpp, deform/quality.h); these are the Vec3 forms
+    // they replaced, on irregular rings far from the origin and randomly moved.
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+    for (TriangleMesh mesh : {fixtures::valence_zoo(), make_builtin_mesh("sphere", 3)}) {
+        for (Vec3& p : mesh.positions)
+            p = 1e4 * Vec3(1.0, -2.0, 3.0) + p + Vec3(jitter(random), jitter(random), jitter(random));
+        const VertexRings rings = build_vertex_rings(mesh);
+        const std::vector<Vec3>& x = mesh.positions;
+        std::vector<std::uint32_t> all(x.size());
+        for (std::uint32_t v = 0; v < all.size(); ++v) all[v] = v;
+        std::vector<Vec3> normals, area_vectors;
+        vertex_normals(x, rings, all, normals, area_vectors);
+        for (std::uint32_t v = 0; v < x.size(); ++v) {
+            Vec3 sum(0.0);
+            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
+                if (rings.wedge[k])
+                    sum += glm::cross(x[rings.neighbours[k]] - x[v], x[rings.neighbours[rings.next(v, k)]] - x[v]);
+            const double length = glm::length(sum);
+            CHECK(ring_area_vector(x, rings, v) == sum);
+            CHECK(area_vectors[v] == sum);
+            CHECK(normals[v] == (length > 0.0 ? sum / length : Vec3(0.0)));
+        }
+        for (const Triangle& t : mesh.triangles) {
+            const Vec3 n = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
+            const double length = glm::length(n);
+            CHECK(unit_normal(x, t) == (length > 0.0 ? n / length : Vec3(0.0)));
+        }
+    }
 }
