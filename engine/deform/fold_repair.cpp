@@ -332,13 +332,13 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x) {
                 flags_[i] = 0;
                 continue;
             }
-            double x = 0.0, y = 0.0, z = 0.0;  // the neighbours' normals' sum, in scalars (geometry.cpp's ring sums)
+            double sx = 0.0, sy = 0.0, sz = 0.0;  // the neighbours' normals' sum, in scalars (geometry.cpp's ring sums)
             for (std::uint32_t k = begin; k < end; ++k) {
                 const Vec3& m = normals_[rest.neighbours[k]];
-                x += m.x, y += m.y, z += m.z;
+                sx += m.x, sy += m.y, sz += m.z;
             }
             const Vec3& n = normals_[rest.check[i]];
-            flags_[i] = n.x * x + n.y * y + n.z * z < 0.0;
+            flags_[i] = n.x * sx + n.y * sy + n.z * sz < 0.0;
         }
     });
     std::vector<std::uint32_t> out;
