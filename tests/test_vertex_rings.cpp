@@ -113,6 +113,7 @@ TEST_CASE("the ring sums and the triangle normals in scalars are glm's cross pro
             CHECK(ring_area_vector(x, rings, v) == sum);
             CHECK(area_vectors[v] == sum);
             CHECK(normals[v] == (length > 0.0 ? sum / length : Vec3(0.0)));
+            CHECK(vertex_normal(x, rings, v) == normals[v]);
         }
         for (const Triangle& t : mesh.triangles) {
             const Vec3 n = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);

@@ -11,6 +11,7 @@
 
 #include "base/parallel.h"
 #include "base/rigid_fit.h"
+#include "mesh/geometry.h"
 
 namespace vfsd {
 namespace {
@@ -46,16 +47,6 @@ struct AffineFit {
     glm::dmat3 a{1.0};
     Vec3 apply(const Vec3& y) const { return to_centre + a * (y - from_centre); }
 };
-
-// The unit normal of v's star in x: the sum of its ring's wedge area vectors.
-Vec3 star_normal(const std::vector<Vec3>& x, const VertexRings& rings, std::uint32_t v) {
-    Vec3 sum(0.0);
-    for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
-        if (rings.wedge[k])
-            sum += glm::cross(x[rings.neighbours[k]] - x[v], x[rings.neighbours[rings.next(v, k)]] - x[v]);
-    const double length = glm::length(sum);
-    return length > 0.0 ? sum / length : Vec3(0.0);
-}
 
 AffineFit fit_affine(const std::vector<Vec3>& from, const std::vector<Vec3>& to) {
     AffineFit f;
@@ -143,7 +134,7 @@ FoldRepair::StarSums star_sums(const std::vector<Vec3>& rest, const std::vector<
         const Vec3 q = x[y] - x[v];
         sums.sum += q, sums.product += glm::outerProduct(q, rest[y] - rest[v]);
     }
-    sums.normal = star_normal(x, rings, v);
+    sums.normal = vertex_normal(x, rings, v);
     return sums;
 }
 
@@ -570,7 +561,7 @@ std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::ui
             }
             return out;
         };
-        const Vec3 normal = star_normal(x, rings, v);
+        const Vec3 normal = vertex_normal(x, rings, v);
         double shortest = std::numeric_limits<double>::max();
         directions.clear();
         if (glm::dot(normal, normal) > 0.0) directions = {normal, -normal};

@@ -80,6 +80,10 @@ Vec3 ring_area_vector(const std::vector<Vec3>& positions, const VertexRings& rin
     return ring_area_sum(positions.data(), rings, v);
 }
 
+Vec3 vertex_normal(const std::vector<Vec3>& positions, const VertexRings& rings, std::uint32_t v) {
+    return unit_or_zero(ring_area_sum(positions.data(), rings, v));
+}
+
 void ring_area_vectors(const std::vector<Vec3>& positions, const VertexRings& rings,
                        const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& area_vectors) {
     area_vectors.resize(vertices.size());

@@ -40,6 +40,9 @@ void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings
 // area along its normal. On a closed mesh it is 6 ∂V/∂x_v, the enclosed volume's
 // gradient with respect to v (sec. 7.2's V as a sum of tetrahedra).
 Vec3 ring_area_vector(const std::vector<Vec3>& positions, const VertexRings& rings, std::uint32_t v);
+// ring_area_vector normalised: v's area-weighted unit normal, as vertex_normals
+// gives it ((0,0,0) for a zero sum).
+Vec3 vertex_normal(const std::vector<Vec3>& positions, const VertexRings& rings, std::uint32_t v);
 // ring_area_vector of each listed vertex: area_vectors[i] for vertices[i].
 void ring_area_vectors(const std::vector<Vec3>& positions, const VertexRings& rings,
                        const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& area_vectors);
