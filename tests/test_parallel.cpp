@@ -90,3 +90,29 @@ TEST_CASE("parallel_for keeps every index once with a busy thread beside it", "[
     stop = true;
     for (std::thread& t : busy) t.join();
 }
+
+TEST_CASE("The pool's choice compares each kind of job with itself", "[parallel]") {
+    // Two kinds, both twice as fast on all threads: a light one (1 ns an item)
+    // and a heavy one (100 ns an item). Whichever way each kind happened to be
+    // timed more often, all threads must win; pooled items per second would
+    // pick the way that timed more of the light kind.
+    const auto timings = [](double per_item_all, double per_item_alone, double items_all, double items_alone) {
+        JobTimings t;
+        t.items[0] = items_all, t.items[1] = items_alone;
+        t.seconds[0] = items_all * per_item_all, t.seconds[1] = items_alone * per_item_alone;
+        return t;
+    };
+    for (const double skew : {0.1, 1.0, 10.0}) {
+        INFO("skew " << skew);
+        const JobTimings light = timings(0.5e-9, 1e-9, 1e5 / skew, 1e5 * skew);
+        const JobTimings heavy = timings(50e-9, 100e-9, 1e5 * skew, 1e5 / skew);
+        CHECK_FALSE(alone_faster({light, heavy}));
+        // The same kinds with the caller alone twice as fast: alone must win.
+        const JobTimings light_busy = timings(2e-9, 1e-9, 1e5 / skew, 1e5 * skew);
+        const JobTimings heavy_busy = timings(200e-9, 100e-9, 1e5 * skew, 1e5 / skew);
+        CHECK(alone_faster({light_busy, heavy_busy}));
+    }
+    // A kind timed one way only says nothing about the other way.
+    CHECK_FALSE(alone_faster({timings(1e-9, 1e-9, 100.0, 0.0), timings(1e-9, 2e-9, 100.0, 100.0)}));
+    CHECK_FALSE(alone_faster({}));
+}

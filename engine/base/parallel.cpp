@@ -6,6 +6,8 @@
 #include <condition_variable>
 #include <mutex>
 #include <thread>
+#include <typeindex>
+#include <typeinfo>
 #include <vector>
 
 namespace vfsd {
@@ -39,11 +41,15 @@ constexpr std::chrono::microseconds kSpin{200};
 
 // On a busy machine the threads together can run far slower than the caller
 // alone: a worker the system does not run holds up every job until it does.
-// So the pool measures: every kProbeCalls + kProbeCalls + kChosenCalls jobs it
-// runs kProbeCalls on all threads and kProbeCalls on the caller alone, timing
-// each, and the next kChosenCalls the faster way (per item, over a few steps'
-// worth of passes each). Idle, the probe on the caller alone costs about half a
-// percent; busy, the probe on all threads about as much.
+// So the pool measures: every 2 kProbeCalls + kChosenCalls jobs it times
+// 2 kProbeCalls of them, each kind of job (each call site's body) alternately
+// on all threads and on the caller alone, and runs the next kChosenCalls the way
+// that would have taken less time over those jobs. Kinds are compared with
+// themselves: a step's passes differ per item by tens of times (a smoothing
+// sweep against the field's RK4), so timing one window of jobs on all threads
+// and the next alone compared different mixes of passes, and on an idle
+// 2-core machine often chose the caller alone (docs/benchmarks.md). Idle, the probe's calls
+// alone cost about half a percent; busy, those on all threads about as much.
 constexpr int kProbeCalls = 64;
 constexpr int kChosenCalls = 16384;
 
@@ -68,29 +74,31 @@ public:
 
     void run(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
         std::lock_guard<std::mutex> one_caller(call_mutex_);  // callers take turns
-        if (phase_ == Phase::chosen) {
+        if (calls_left_ > 0) {                                // the way chosen
+            --calls_left_;
             if (alone_chosen_)
                 body(0, n);
             else
                 run_on_all(n, body);
-        } else {
-            const bool alone = phase_ == Phase::probe_alone;
-            const auto start = std::chrono::steady_clock::now();
-            if (alone)
-                body(0, n);
-            else
-                run_on_all(n, body);
-            probe_[alone].add(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), n);
+            return;
         }
-        if (--calls_left_ > 0) return;
-        switch (phase_) {
-            case Phase::chosen: phase_ = Phase::probe_all, calls_left_ = kProbeCalls, probe_[0] = probe_[1] = {}; break;
-            case Phase::probe_all: phase_ = Phase::probe_alone, calls_left_ = kProbeCalls; break;
-            case Phase::probe_alone:
-                alone_chosen_ = probe_[1].per_item() < probe_[0].per_item();
-                phase_ = Phase::chosen, calls_left_ = kChosenCalls;
-                break;
+        KindProbe& kind = probe_of(body.target_type());
+        const int call = kind.calls++, alone = call % 2;
+        const auto start = std::chrono::steady_clock::now();
+        if (alone)
+            body(0, n);
+        else
+            run_on_all(n, body);
+        if (call > 0) {  // a kind's first job warms its caches and buffers
+            kind.timings.seconds[alone] +=
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            kind.timings.items[alone] += double(n);
         }
+        if (++probe_calls_ < 2 * kProbeCalls) return;
+        alone_chosen_ = alone_faster();
+        probe_calls_ = 0;
+        calls_left_ = kChosenCalls;
+        kinds_.clear();
     }
 
 private:
@@ -148,18 +156,26 @@ private:
     std::atomic<std::size_t> pending_{0};
     std::atomic<unsigned long> generation_{0};
     bool stop_ = false;
-    // The measurement above: timed jobs on all threads [0] and on the caller alone [1].
-    struct Probe {
-        double seconds = 0.0;
-        double items = 0.0;
-        void add(double s, std::size_t n) { seconds += s, items += double(n); }
-        double per_item() const { return items > 0.0 ? seconds / items : 0.0; }
+    // The measurement above, per kind of job.
+    struct KindProbe {
+        std::type_index kind;
+        int calls = 0;
+        JobTimings timings;
     };
-    enum class Phase { chosen, probe_all, probe_alone };
-    Phase phase_ = Phase::probe_all;  // measure from the first jobs on
-    int calls_left_ = kProbeCalls;
+    KindProbe& probe_of(const std::type_info& kind) {
+        for (KindProbe& p : kinds_)
+            if (p.kind == kind) return p;
+        return kinds_.emplace_back(KindProbe{kind, 0, JobTimings{}});
+    }
+    bool alone_faster() const {
+        std::vector<JobTimings> timings;
+        for (const KindProbe& p : kinds_) timings.push_back(p.timings);
+        return vfsd::alone_faster(timings);
+    }
+    std::vector<KindProbe> kinds_;
+    int probe_calls_ = 0;
+    int calls_left_ = 0;  // 0: probing (from the first jobs on)
     bool alone_chosen_ = false;
-    Probe probe_[2];
 };
 
 Pool& pool() {
@@ -170,6 +186,17 @@ Pool& pool() {
 std::atomic<unsigned> thread_limit{0};
 
 }  // namespace
+
+bool alone_faster(const std::vector<JobTimings>& kinds) {
+    double all = 0.0, alone = 0.0;
+    for (const JobTimings& k : kinds) {
+        if (k.items[0] == 0.0 || k.items[1] == 0.0) continue;
+        const double items = k.items[0] + k.items[1];
+        all += items * k.seconds[0] / k.items[0];
+        alone += items * k.seconds[1] / k.items[1];
+    }
+    return alone < all;
+}
 
 unsigned parallel_thread_count() {
     const unsigned limit = thread_limit.load();

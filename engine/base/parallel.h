@@ -3,7 +3,7 @@
 // runs them on a persistent pool (the calling thread takes the first chunk).
 // Small ranges, and builds without threads (WebAssembly), run serially; so do
 // calls while the pool finds the calling thread alone faster (a busy machine:
-// it times both every few thousand calls). The passes of deform/passes.h use
+// it times both, each call site's jobs both ways, every few thousand calls). The passes of deform/passes.h use
 // it; each call is a barrier. Calls from several threads take turns; `body`
 // must not call parallel_for itself.
 
@@ -48,6 +48,18 @@ double parallel_sum(std::size_t n, const Term& term) {
     for (const double p : partial) total += p;
     return total;
 }
+
+// What the pool timed of one kind of job (one call site's body): [0] on all
+// threads, [1] on the calling thread alone.
+struct JobTimings {
+    double seconds[2] = {0.0, 0.0};
+    double items[2] = {0.0, 0.0};
+};
+// The pool's choice: true if the kinds' jobs would have taken less time alone,
+// each kind at its own time per item (a kind timed one way only is left out).
+// Pooling the items of different kinds would weigh each way by the kinds it
+// happened to time.
+bool alone_faster(const std::vector<JobTimings>& kinds);
 
 // Number of threads parallel_for uses (1 where threads are unavailable).
 unsigned parallel_thread_count();
