@@ -39,8 +39,8 @@ void check_each_once(std::size_t n, std::size_t grain) {
 
 TEST_CASE("parallel_for visits every index once, on any number of threads", "[parallel]") {
     for (const unsigned limit : {0u, 1u, 2u})
-        for (const std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(7), std::size_t(8191),
-                                    std::size_t(8192), std::size_t(8193), std::size_t(100000)})
+        for (const std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(7), kParallelGrain - 1, kParallelGrain,
+                                    kParallelGrain + 1, std::size_t(8193), std::size_t(100000)})
             for (const std::size_t grain : {std::size_t(1), kParallelGrain}) {
                 set_parallel_thread_limit(limit);
                 check_each_once(n, grain);

@@ -6,7 +6,6 @@
 #include <condition_variable>
 #include <mutex>
 #include <thread>
-#include <typeindex>
 #include <typeinfo>
 #include <vector>
 
@@ -40,15 +39,16 @@ bool spin_until(const Ready& ready, std::chrono::microseconds budget) {
 constexpr std::chrono::microseconds kSpin{200};
 
 // On a busy machine the threads together can run far slower than the caller
-// alone: a worker the system does not run holds up every job until it does.
-// So the pool measures: every 2 kProbeCalls + kChosenCalls jobs it times
-// 2 kProbeCalls of them, each kind of job (each call site's body) alternately
-// on all threads and on the caller alone, and runs the next kChosenCalls the way
-// that would have taken less time over those jobs. Kinds are compared with
-// themselves: a step's passes differ per item by tens of times (a smoothing
-// sweep against the field's RK4), so timing one window of jobs on all threads
-// and the next alone compared different mixes of passes, and on an idle
-// 2-core machine often chose the caller alone (docs/benchmarks.md). Idle, the probe's calls
+// alone: a worker the system does not run holds up every job until it does;
+// and a light job on few items gains less from a second thread than handing it
+// over costs. So the pool measures: every 2 kProbeCalls + kChosenCalls jobs it
+// times 2 kProbeCalls of them, each kind of job (each call site's body)
+// alternately on all threads and on the caller alone, and runs each kind the
+// faster way for the next kChosenCalls jobs. Each kind is compared with itself:
+// a step's passes differ per item by tens of times (a smoothing sweep against
+// the field's RK4), and timing one window of jobs on all threads and the next
+// alone compared different mixes of passes (on an idle 2-core machine it often
+// chose the caller alone for all; docs/benchmarks.md). Idle, the probe's calls
 // alone cost about half a percent; busy, those on all threads about as much.
 constexpr int kProbeCalls = 64;
 constexpr int kChosenCalls = 16384;
@@ -74,15 +74,15 @@ public:
 
     void run(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
         std::lock_guard<std::mutex> one_caller(call_mutex_);  // callers take turns
-        if (calls_left_ > 0) {                                // the way chosen
+        Kind& kind = kind_of(body.target_type());
+        if (calls_left_ > 0) {  // the way chosen
             --calls_left_;
-            if (alone_chosen_)
+            if (kind.alone)
                 body(0, n);
             else
                 run_on_all(n, body);
             return;
         }
-        KindProbe& kind = probe_of(body.target_type());
         const int call = kind.calls++, alone = call % 2;
         const auto start = std::chrono::steady_clock::now();
         if (alone)
@@ -95,10 +95,9 @@ public:
             kind.timings.items[alone] += double(n);
         }
         if (++probe_calls_ < 2 * kProbeCalls) return;
-        alone_chosen_ = alone_faster();
+        choose();
         probe_calls_ = 0;
         calls_left_ = kChosenCalls;
-        kinds_.clear();
     }
 
 private:
@@ -156,26 +155,37 @@ private:
     std::atomic<std::size_t> pending_{0};
     std::atomic<unsigned long> generation_{0};
     bool stop_ = false;
-    // The measurement above, per kind of job.
-    struct KindProbe {
-        std::type_index kind;
+    // The measurement above and the way chosen, per kind of job. The kind is
+    // the body's type_info, told apart by address (a lookup by name would
+    // compare mangled names on every call).
+    struct Kind {
+        const std::type_info* type;
+        bool alone;
         int calls = 0;
         JobTimings timings;
     };
-    KindProbe& probe_of(const std::type_info& kind) {
-        for (KindProbe& p : kinds_)
-            if (p.kind == kind) return p;
-        return kinds_.emplace_back(KindProbe{kind, 0, JobTimings{}});
+    Kind& kind_of(const std::type_info& type) {
+        for (Kind& k : kinds_)
+            if (k.type == &type) return k;
+        return kinds_.emplace_back(Kind{&type, alone_by_default_, 0, JobTimings{}});
     }
-    bool alone_faster() const {
+    // Each kind timed both ways takes its faster way; the others, and kinds
+    // first seen later, the way that is faster over all kinds timed.
+    void choose() {
         std::vector<JobTimings> timings;
-        for (const KindProbe& p : kinds_) timings.push_back(p.timings);
-        return vfsd::alone_faster(timings);
+        for (const Kind& k : kinds_) timings.push_back(k.timings);
+        alone_by_default_ = alone_faster(timings);
+        for (Kind& k : kinds_) {
+            const bool timed = k.timings.items[0] > 0.0 && k.timings.items[1] > 0.0;
+            k.alone = timed ? alone_faster({k.timings}) : alone_by_default_;
+            k.calls = 0;
+            k.timings = JobTimings{};
+        }
     }
-    std::vector<KindProbe> kinds_;
+    std::vector<Kind> kinds_;
     int probe_calls_ = 0;
     int calls_left_ = 0;  // 0: probing (from the first jobs on)
-    bool alone_chosen_ = false;
+    bool alone_by_default_ = false;
 };
 
 Pool& pool() {

@@ -13,8 +13,12 @@
 
 namespace vfsd {
 
-// Below this many items a call runs on the calling thread alone.
-constexpr std::size_t kParallelGrain = 8192;
+// Below this many items a call runs on the calling thread alone. Above it, the
+// pool's timing decides per kind of job (parallel.cpp): a light pass on a few
+// thousand items runs alone, the field's RK4 on a thousand in parallel. (It
+// was 8192 before the pool chose per kind, which kept every pass of a blend
+// region under 8192 vertices, the raised claw's 7442, on one thread.)
+constexpr std::size_t kParallelGrain = 1024;
 
 // Calls body(begin, end) on disjoint chunks covering [0, n); serially below
 // `grain` items (a caller whose items are blocks of work passes a smaller one).
