@@ -52,13 +52,24 @@ constexpr std::chrono::microseconds kSpin{200};
 // alone cost about half a percent; busy, those on all threads about as much.
 constexpr int kProbeCalls = 64;
 constexpr int kChosenCalls = 16384;
+// A worker that shares its core with another process runs in the system's
+// time slices (milliseconds): a job it began just before its slice ended
+// waits for the next. Few jobs do, but each waits tens of times its length,
+// and a probe of a few jobs per kind rarely sees one. So when kLateWorkers of
+// kLateWindow jobs on all threads left the caller waiting for a worker longer
+// than its own share took (plus 50 µs), every kind runs alone until the next
+// probe. Idle, a late worker is rare (the system's own interruptions).
+constexpr int kLateWorkers = 4;
+constexpr int kLateWindow = 256;
 
-// Workers wait for a generation number to change, run their chunk of the
-// current job, and count down; the caller waits for the count to reach zero.
+// Workers wait for a generation number to change, claim their chunk of the
+// current job, run it and count down; the caller runs its own chunk, claims and
+// runs those no worker has claimed yet, and waits for the count to reach zero.
 // Both wait by spinning first (spin_until), then on a condition variable.
 class Pool {
 public:
-    explicit Pool(unsigned workers) {
+    explicit Pool(unsigned workers) : claimed_(workers + 1) {
+        for (auto& c : claimed_) c.store(0, std::memory_order_relaxed);
         for (unsigned i = 0; i < workers; ++i) threads_.emplace_back([this, i] { work(i + 1); });
     }
     ~Pool() {
@@ -77,12 +88,16 @@ public:
         Kind& kind = kind_of(body.target_type());
         if (calls_left_ > 0) {  // the way chosen
             --calls_left_;
-            if (kind.alone)
+            if (kind.alone || busy_) {
                 body(0, n);
-            else
-                run_on_all(n, body);
+            } else {
+                late_workers_ += run_on_all(n, body) ? 0 : 1;
+                if (late_workers_ == kLateWorkers) busy_ = true;  // every kind alone until the next probe
+                if (++window_calls_ == kLateWindow) window_calls_ = 0, late_workers_ = 0;
+            }
             return;
         }
+        busy_ = false, late_workers_ = window_calls_ = 0;
         const int call = kind.calls++, alone = call % 2;
         const auto start = std::chrono::steady_clock::now();
         if (alone)
@@ -101,20 +116,44 @@ public:
     }
 
 private:
-    void run_on_all(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
+    // Chunk 0 on the caller, chunk i on worker i, unless the caller, done with
+    // its own, claims it first: a worker the system is not running (another
+    // process on its core) or that is still waking up then holds up nothing,
+    // and the caller waits only for chunks a worker has begun.
+    // False if the caller then waited for a worker longer than its own share took.
+    bool run_on_all(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
+        const auto start = std::chrono::steady_clock::now();
+        unsigned long generation = 0;
         {
             std::lock_guard<std::mutex> lock(mutex_);
             body_ = &body;
             n_ = n;
             pending_.store(threads_.size(), std::memory_order_relaxed);
-            generation_.fetch_add(1, std::memory_order_release);
+            generation = generation_.fetch_add(1, std::memory_order_release) + 1;
         }
         wake_.notify_all();
         run_chunk(0, n, body);
+        for (unsigned index = 1; index < size(); ++index)
+            if (claim(index, generation)) {
+                run_chunk(index, n, body);
+                pending_.fetch_sub(1, std::memory_order_acq_rel);
+            }
         const auto done = [this] { return pending_.load(std::memory_order_acquire) == 0; };
-        if (spin_until(done, kSpin)) return;
-        std::unique_lock<std::mutex> lock(mutex_);
-        done_.wait(lock, done);
+        if (done()) return true;
+        const auto waiting = std::chrono::steady_clock::now();
+        if (!spin_until(done, kSpin)) {
+            std::unique_lock<std::mutex> lock(mutex_);
+            done_.wait(lock, done);
+        }
+        return std::chrono::steady_clock::now() - waiting <= waiting - start + kSpin / 4;
+    }
+
+    // True for the first to claim chunk `index` of job `generation`.
+    bool claim(unsigned index, unsigned long generation) {
+        unsigned long last = claimed_[index].load(std::memory_order_relaxed);
+        while (last < generation)
+            if (claimed_[index].compare_exchange_weak(last, generation, std::memory_order_acq_rel)) return true;
+        return false;
     }
 
     void run_chunk(unsigned index, std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) const {
@@ -139,6 +178,7 @@ private:
                 body = body_;
                 n = n_;
             }
+            if (!claim(index, seen)) continue;  // the caller ran it
             run_chunk(index, n, *body);
             if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
                 std::lock_guard<std::mutex> lock(mutex_);  // the caller may be between its check and its wait
@@ -154,6 +194,7 @@ private:
     std::size_t n_ = 0;
     std::atomic<std::size_t> pending_{0};
     std::atomic<unsigned long> generation_{0};
+    std::vector<std::atomic<unsigned long>> claimed_;  // per chunk, the last job that claimed it
     bool stop_ = false;
     // The measurement above and the way chosen, per kind of job. The kind is
     // the body's type_info, told apart by address (a lookup by name would
@@ -185,6 +226,8 @@ private:
     std::vector<Kind> kinds_;
     int probe_calls_ = 0;
     int calls_left_ = 0;  // 0: probing (from the first jobs on)
+    int late_workers_ = 0, window_calls_ = 0;
+    bool busy_ = false;
     bool alone_by_default_ = false;
 };
 

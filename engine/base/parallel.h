@@ -2,10 +2,12 @@
 // parallel_for: splits [0, n) into one contiguous chunk per hardware thread and
 // runs them on a persistent pool (the calling thread takes the first chunk).
 // Small ranges, and builds without threads (WebAssembly), run serially; so do
-// calls while the pool finds the calling thread alone faster (a busy machine:
-// it times both, each call site's jobs both ways, every few thousand calls). The passes of deform/passes.h use
-// it; each call is a barrier. Calls from several threads take turns; `body`
-// must not call parallel_for itself.
+// calls while the pool finds the calling thread alone faster (it times each
+// call site's jobs both ways every few thousand calls), and all calls while
+// workers keep arriving late (another process on their cores). A worker's chunk
+// that it has not begun when the caller is done with its own, the caller runs.
+// The passes of deform/passes.h use it; each call is a barrier. Calls from
+// several threads take turns; `body` must not call parallel_for itself.
 
 #include <cstddef>
 #include <functional>
