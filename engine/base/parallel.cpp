@@ -57,10 +57,13 @@ constexpr int kChosenCalls = 16384;
 // waits for the next. Few jobs do, but each waits tens of times its length,
 // and a probe of a few jobs per kind rarely sees one. So when kLateWorkers of
 // kLateWindow jobs on all threads left the caller waiting for a worker longer
-// than its own share took (plus 50 µs), every kind runs alone until the next
-// probe. Idle, a late worker is rare (the system's own interruptions).
+// than its own share took (plus 50 µs), every kind runs alone until a probe
+// kBusyCalls jobs later. Idle, a late worker is rare (a page touched for the
+// first time, the system's own interruptions), and the probe then gives the
+// kinds their second thread back.
 constexpr int kLateWorkers = 4;
 constexpr int kLateWindow = 256;
+constexpr int kBusyCalls = 2048;
 
 // Workers wait for a generation number to change, claim their chunk of the
 // current job, run it and count down; the caller runs its own chunk, claims and
@@ -92,7 +95,8 @@ public:
                 body(0, n);
             } else {
                 late_workers_ += run_on_all(n, body) ? 0 : 1;
-                if (late_workers_ == kLateWorkers) busy_ = true;  // every kind alone until the next probe
+                if (late_workers_ == kLateWorkers)  // every kind alone until a probe, soon
+                    busy_ = true, calls_left_ = std::min(calls_left_, kBusyCalls);
                 if (++window_calls_ == kLateWindow) window_calls_ = 0, late_workers_ = 0;
             }
             return;
