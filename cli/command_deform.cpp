@@ -85,6 +85,13 @@ nlohmann::json describe_refinement(const PreparedScene& p, const SceneRun& run) 
             {"vertices_added", p.file.mesh.vertex_count() - run.vertices_before}};
 }
 
+// Each try of the step control as [t, h, estimate, taken].
+nlohmann::json step_tries_json(const std::vector<StepTry>& tries) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const StepTry& t : tries) out.push_back({t.time, t.length, t.error, t.taken});
+    return out;
+}
+
 nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const DeformationQuality& q,
                            double total_ms) {
     const FoldRepairStats repairs = d.fold_repairs();
@@ -98,7 +105,8 @@ nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const D
               {"tolerance", d.options().tolerance},
               {"rejected_steps", d.step_errors().rejected},
               {"estimated_step_error_largest", d.step_errors().largest},
-              {"estimated_error_sum", d.step_errors().sum}}},
+              {"estimated_error_sum", d.step_errors().sum},
+              {"tries", step_tries_json(d.step_tries())}}},
             {"target_time", d.time()},
             {"backend", d.backend_name()},
             {"ms_per_step", d.ms_per_step()},

@@ -101,6 +101,14 @@ TEST_CASE("vfsd deform takes error-controlled steps with --tolerance and reports
     CHECK(control["estimated_step_error_largest"].get<double>() > 0.0);
     CHECK(control["estimated_error_sum"].get<double>() >= control["estimated_step_error_largest"].get<double>());
     CHECK(control["rejected_steps"].get<int>() >= 0);
+    // Every try as [t, h, estimate, taken]: as many taken as steps, the rest rejected.
+    int taken = 0, rejected = 0;
+    for (const nlohmann::json& t : control["tries"]) {
+        REQUIRE(t.size() == 4);
+        (t[3].get<bool>() ? taken : rejected) += 1;
+    }
+    CHECK(taken == report["steps"].get<int>());
+    CHECK(rejected == control["rejected_steps"].get<int>());
     CHECK(report["steps"].get<int>() < 250 / 4);  // the file's fixed 250, replaced
     CHECK(report["target_time"] == 1.0);
     // --steps keeps fixed steps; both at once is a usage error (exit 2).
@@ -109,6 +117,7 @@ TEST_CASE("vfsd deform takes error-controlled steps with --tolerance and reports
     const nlohmann::json fixed = nlohmann::json::parse(std::ifstream(dir.file("r.json")));
     CHECK(fixed["step_control"]["error_controlled"] == false);
     CHECK(fixed["step_control"]["rejected_steps"] == 0);
+    CHECK(fixed["step_control"]["tries"].empty());
     CHECK(deform(dir, "'" + scene + "' --steps 30 --tolerance 1e-3 --force --out '" + dir.file("out.ply") + "'") == 2);
     CHECK(deform(dir, "'" + scene + "' --tolerance 0.5 --force --out '" + dir.file("out.ply") + "'") == 2);
 }

@@ -141,3 +141,38 @@ TEST_CASE("RK4's own error on the rigid motion shrinks as h^5 and vanishes for a
                                  InnerMotionMode::Translation, 0.0, 0.0);
     CHECK(error(straight, 0.3, 0.5) < 1e-12);
 }
+
+TEST_CASE("the step control's tries: taken ones chain from 0 to 1 within the tolerance, rejected ones over it",
+          "[deformation][step-control]") {
+    for (const Scene& scene : small_scenes()) {
+        INFO(scene.mesh);
+        const PreparedScene p = prepare_scene(scene);
+        DeformationOptions options = scene.options;
+        options.tolerance = 5e-4;
+        Deformation d(p.file.mesh.positions, p.rings, p.region, p.motion, options);
+        const int steps = d.advance(1.0);
+        double reached = 0.0;
+        int taken = 0, rejected = 0;
+        for (const StepTry& t : d.step_tries()) {
+            CHECK(t.time == reached);  // each try starts where the last taken one ended
+            CHECK(t.length > 0.0);
+            const bool shortest = t.length <= StepControl::kShortestStep;
+            if (t.taken) {
+                CHECK((t.error <= options.tolerance || shortest));
+                reached = t.time + t.length;
+                ++taken;
+            } else {
+                CHECK(t.error > options.tolerance);
+                ++rejected;
+            }
+        }
+        CHECK(reached == 1.0);
+        CHECK(taken == steps);
+        CHECK(rejected == d.step_errors().rejected);
+        // Going back and forth again retraces the times reached: no new tries.
+        const std::size_t tries = d.step_tries().size();
+        d.advance(0.5);
+        d.advance(1.0);
+        CHECK(d.step_tries().size() == tries);
+    }
+}

@@ -100,6 +100,7 @@ void Deformation::note_step(double next, bool controlled, const StepResult& resu
         ++errors_.estimated_steps;
     }
     if (!controlled) return;
+    tries_.push_back({time_, h, result.error, result.taken});
     if (!result.taken) {
         ++errors_.rejected;
         next_length_ = StepControl::retry_length(h, std::max(result.error, 0.0), options_.tolerance);

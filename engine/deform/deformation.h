@@ -105,6 +105,16 @@ struct StepErrors {
     int estimated_steps = 0;  // the steps estimated
 };
 
+// One try of the step control: the step from `time` of `length`, its estimate
+// (relative to the mesh's size; −1 where none was made), and whether it was
+// taken or tried again shorter.
+struct StepTry {
+    double time = 0.0;
+    double length = 0.0;
+    double error = 0.0;
+    bool taken = false;
+};
+
 // The error a non-finite position raises: step `step` (counted from 1) from time
 // `time` made input vertex `vertex` non-finite.
 NumericalError nonfinite_position(std::size_t vertex, int step, double time);
@@ -183,6 +193,9 @@ public:
     // Whether the steps are error-controlled (options().tolerance > 0 and a backend that estimates).
     bool error_controlled() const { return controlled_; }
     const StepErrors& step_errors() const { return errors_; }
+    // Every error-controlled step tried, in order (steps forward beyond the
+    // times reached; steps back and retraced ones are not tried).
+    const std::vector<StepTry>& step_tries() const { return tries_; }
     // In the input's vertex order (the GPU reads them back once per advance).
     const std::vector<Vec3>& positions() const;
     const DeformationOptions& options() const { return options_; }
@@ -214,6 +227,7 @@ private:
     double next_length_ = StepControl::kFirstStep;
     bool just_rejected_ = false;
     StepErrors errors_;
+    std::vector<StepTry> tries_;
     std::vector<double> step_ms_;
     mutable bool checked_ = true;  // positions() has been checked finite since the last advance
 };
