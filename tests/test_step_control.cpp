@@ -9,6 +9,7 @@
 #include "gpu/gpu_deformation.h"
 #include "mesh/geometry.h"
 #include "scene/prepared_scene.h"
+#include "scene/scene_run.h"
 #include "test_gpu_support.h"
 
 using namespace vfsd;
@@ -174,5 +175,22 @@ TEST_CASE("the step control's tries: taken ones chain from 0 to 1 within the tol
         d.advance(0.5);
         d.advance(1.0);
         CHECK(d.step_tries().size() == tries);
+    }
+}
+
+TEST_CASE("vfsd deform's run takes the steps a run straight to the target takes, none of them a sliver",
+          "[deformation][step-control][scene]") {
+    // run_scene counts the folds at every tenth of the way; with error-controlled
+    // steps it cut a step short at each, which added steps and changed the result.
+    for (const Scene& scene : small_scenes()) {
+        INFO(scene.mesh);
+        PreparedScene p = prepare_scene(scene);
+        p.scene.options.tolerance = 5e-4;
+        const SceneRun watched = run_scene(p);
+        REQUIRE(watched.refinements == 0);
+        const Outcome straight = run(p, p.scene.options);
+        CHECK(watched.deformation->step_milliseconds().size() == std::size_t(straight.steps));
+        CHECK(watched.deformation->positions() == straight.positions);
+        for (const StepTry& t : watched.deformation->step_tries()) CHECK(t.length >= StepControl::kShortestStep / 5);
     }
 }

@@ -83,8 +83,11 @@ double Deformation::next_time(double target, bool& controlled) const {
     if (after != grid_.end()) return std::min(*after, target);
     controlled = true;  // forward from the last time reached: a new step
     const auto join = std::upper_bound(joins_.begin(), joins_.end(), time_ + StepControl::kShortestStep);
-    const double landing = join != joins_.end() ? *join : 1.0;  // the next time a step must end on
-    // Within a fifth of a step of it, the step reaches it rather than leave a sliver.
+    // The next time a step must end on: a join, the target or t = 1.
+    const double landing = std::min(join != joins_.end() ? *join : 1.0, target);
+    // Within a fifth of a step of it, the step reaches it rather than leave a
+    // sliver (a step from 0.35 of 0.05 ends at 0.39999999999999997, and one of
+    // 5.6e-17 would follow to reach 0.4).
     const double stretched = std::min(1.2 * next_length_, StepControl::kLongestStep);
     const double next = time_ + stretched >= landing ? landing : time_ + next_length_;
     return std::min(next, target);
