@@ -18,18 +18,19 @@ SceneRun run_once(const PreparedScene& p, const StartDeformation& start, const R
     run.refinements = refinements;
     run.deformation.emplace(start ? start(p) : p.start_deformation());
     Deformation& d = *run.deformation;
-    const int chunk = std::max(1, d.options().steps / 50);  // steps between progress reports
+    const int chunk = std::max(1, d.options().steps / 50);
     const double target = p.scene.target_time;
-    int steps = 0;
+    const bool controlled = d.error_controlled();
     for (int check = 1; check <= kChecks; ++check) {
-        // The folds are counted at the first time reached at or past each tenth
-        // (on it with fixed steps of a multiple of ten): the steps run toward the
-        // target uncut, as in the editors. Error-controlled steps cut short at
-        // every tenth took more steps (the raised claw 37, not 32) and gave
-        // another result than the editors' run of the same scene.
+        // The folds are counted at every tenth: fixed steps advance to it in
+        // chunks (an asynchronous backend waits for its steps once per chunk);
+        // error-controlled ones run toward the target uncut, as in the editors,
+        // to the first time reached at or past it. Cut short at every tenth,
+        // they took more steps (the raised claw 37, not 32) and gave another
+        // result than the editors' run of the same scene.
         const double time = check == kChecks ? target : target * check / kChecks;
-        while (d.time() < time && d.advance(target, 1) > 0)
-            if (progress && ++steps % chunk == 0) progress(d, refinements);
+        while (d.time() < time && d.advance(controlled ? target : time, controlled ? 1 : chunk) > 0)
+            if (progress) progress(d, refinements);
         const std::vector<std::uint32_t> folded =
             flipped_triangle_list(p.file.mesh.positions, d.positions(), p.file.mesh.triangles);
         if (!folded.empty() && run.watch.first_step < 0) {

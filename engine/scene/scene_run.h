@@ -1,8 +1,9 @@
 #pragma once
 // A whole scene's run to its target time, as `vfsd deform` and `vfsd battery`
-// run it: the deformation advanced step by step to the target, as the editors
-// advance it, the folds counted at the first time reached at or past every tenth
-// of the way (deform/quality.h), and, where a triangle folded anyway, the mesh
+// run it: the deformation advanced to the target (error-controlled steps uncut,
+// as the editors advance them), the folds counted at every tenth of the way (at
+// the first time an error-controlled step reaches at or past it;
+// deform/quality.h), and, where a triangle folded anyway, the mesh
 // refined at rest around it and the run started again from t = 0.
 //
 // Beyond the paper (docs/method.md, "Refining where a triangle folds"): the
@@ -43,7 +44,7 @@ struct SceneRun {
 // Starts a deformation of the prepared scene (the CPU's by default; the GPU's:
 // gpu/gpu_deformation.h).
 using StartDeformation = std::function<Deformation(const PreparedScene&)>;
-// Called every few steps (a fiftieth of fixed steps, every error-controlled
+// Called every few steps (a fiftieth of fixed steps, each error-controlled
 // one): the deformation so far and the refinements behind it.
 using RunProgress = std::function<void(const Deformation&, int refinements)>;
 
