@@ -18,12 +18,9 @@
 #include <sstream>
 #include <thread>
 
-#include <sys/wait.h>
-#include <unistd.h>
-#include <csignal>
-
 #include "base/error.h"
 #include "base/parallel.h"
+#include "cli/busy_process.h"
 #include "cli/commands.h"
 #include "deform/cpu_steps.h"
 #include "deform/quality.h"
@@ -34,26 +31,6 @@
 
 namespace vfsd::cli {
 namespace {
-
-// A child process that keeps one core busy until this goes out of scope.
-class BusyProcess {
-public:
-    BusyProcess() : pid_(fork()) {
-        if (pid_ < 0) throw IoError("bench --busy: could not start the busy process");
-        if (pid_ == 0)
-            for (volatile unsigned long spin = 0;; spin = spin + 1) {
-            }
-    }
-    ~BusyProcess() {
-        kill(pid_, SIGKILL);
-        waitpid(pid_, nullptr, 0);
-    }
-    BusyProcess(const BusyProcess&) = delete;
-    BusyProcess& operator=(const BusyProcess&) = delete;
-
-private:
-    pid_t pid_;
-};
 
 struct Model {
     std::string name;  // shown in the table

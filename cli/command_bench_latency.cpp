@@ -1,5 +1,5 @@
 // vfsd bench --latency [--quick] [--only TEXT] [--scene FILE] [--tolerance T | --steps N] [--reference-steps N]
-//                     [--repeat N] [--threads N] [--no-reference]
+//                     [--repeat N] [--threads N | --busy] [--no-reference]
 //
 // What a user waits for after an edit, on the 53k and 2M cylinders' bench bend
 // and on the paper-figure scenes the docs measure (or on --scene FILE alone):
@@ -14,7 +14,9 @@
 // the largest and the 99.9th-percentile vertex distance, over the mesh's size
 // (centred_diameter, the tolerance's unit), and the folds of both. Timings are
 // medians over --repeat runs. --steps N runs N fixed steps instead, to compare
-// schemes at equal steps.
+// schemes at equal steps. --busy runs it all beside a process spinning on one
+// core, each repeat on all threads and then on one, and prints both and their
+// ratio (the default thread count is to be no slower than one there).
 
 #include <algorithm>
 #include <chrono>
@@ -22,10 +24,12 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "base/error.h"
 #include "base/parallel.h"
+#include "cli/busy_process.h"
 #include "cli/commands.h"
 #include "deform/cpu_steps.h"
 #include "deform/quality.h"
@@ -148,6 +152,43 @@ Run integrate_from(const std::shared_ptr<const CpuRest>& rest, PreparedScene p, 
     return finish(d);
 }
 
+// One case's timings (ms) over the repeats.
+struct EditTimes {
+    std::vector<double> region, curve_edit, rest_kept, region_edit;
+};
+
+// One repeat of a case's edits, timed into `times`: the region, the curve edit
+// (with `tolerance`, or `fixed_steps` when positive) and the same from the
+// rest state it left; the scene as prepared into `p` (for the reference).
+Run time_edits(const LatencyCase& c, const OpenMesh& open, double tolerance, int fixed_steps, EditTimes& times,
+               PreparedScene& p) {
+    BezierCurve curve;
+    const auto start = Clock::now();
+    Region region = c.region(open, curve);
+    const double region_time = ms_since(start);
+    const auto edit = Clock::now();
+    PreparedScene prepared = prepare(open, std::move(region), curve);
+    const double prepare_time = ms_since(edit);
+    p = prepared;  // for the reference, not timed
+    DeformationOptions options = p.scene.options;
+    options.tolerance = tolerance;
+    if (fixed_steps > 0) options.steps = fixed_steps;
+    const auto run_start = Clock::now();
+    Run run = integrate(std::move(prepared), options);
+    const double curve_edit = prepare_time + ms_since(run_start);
+    times.region.push_back(region_time);
+    times.curve_edit.push_back(curve_edit);
+    times.region_edit.push_back(region_time + curve_edit);
+    // The same curve edit again, from the rest state the run left.
+    Region same = p.region;  // the editor holds the region: not timed
+    const auto kept = Clock::now();
+    const Run from_rest = integrate_from(run.rest, prepare(open, std::move(same), curve), options);
+    times.rest_kept.push_back(ms_since(kept));
+    if (from_rest.positions != run.positions)
+        throw std::logic_error(c.name + ": the run from the kept rest state differs from the run");
+    return run;
+}
+
 std::size_t folds(const PreparedScene& p, const std::vector<Vec3>& positions) {
     return flipped_triangle_list(p.file.mesh.positions, positions, p.file.mesh.triangles).size();
 }
@@ -156,9 +197,11 @@ std::size_t folds(const PreparedScene& p, const std::vector<Vec3>& positions) {
 
 int run_latency_bench(const Args& args) {
     args.expect({"latency", "quick", "only", "scene", "tolerance", "steps", "reference-steps", "repeat", "threads",
-                 "no-reference"},
+                 "no-reference", "busy"},
                 0, 0);
     const bool quick = args.has("quick");
+    if (args.has("busy") && args.has("threads"))
+        throw UsageError("--busy times all threads and one: it takes no --threads");
     const double tolerance = args.get_number("tolerance", kSceneTolerance);
     if (!(tolerance > 0.0 && tolerance <= 0.1)) throw UsageError("--tolerance expects more than 0, at most 0.1");
     const int fixed_steps = static_cast<int>(args.get_number("steps", 0));
@@ -177,40 +220,29 @@ int run_latency_bench(const Args& args) {
             "edit to final shape, t = 0 to 1, tolerance %g of the mesh's size, %u threads; reference: %d "
             "fixed steps\n",
             tolerance, parallel_thread_count(), reference_steps);
+    // With --busy, all threads and one take turns on each repeat, beside a busy process.
+    std::optional<BusyProcess> busy;
+    std::vector<unsigned> limits{0};
+    if (args.has("busy")) {
+        busy.emplace();
+        limits.push_back(1);
+        std::printf("a busy process runs beside the bench; all %u threads and one take turns\n",
+                    parallel_thread_count());
+    }
     std::printf("%-30s %9s %9s %10s %10s %11s %6s %8s %11s %11s %12s\n", "scene", "vertices", "region", "curve edit",
                 "rest kept", "region edit", "steps", "rejected", "max dev", "99.9% dev", "folds / ref");
     for (const LatencyCase& c : cases(quick, scene)) {
         if (!only.empty() && c.name.find(only) == std::string::npos) continue;
         const OpenMesh open = c.open();
-        std::vector<double> region_ms, curve_edit_ms, rest_kept_ms, region_edit_ms;
+        std::vector<EditTimes> times(limits.size());
         PreparedScene p;
         Run run;
-        for (int r = 0; r < repeat; ++r) {
-            BezierCurve curve;
-            const auto start = Clock::now();
-            Region region = c.region(open, curve);
-            const double region_time = ms_since(start);
-            const auto edit = Clock::now();
-            PreparedScene prepared = prepare(open, std::move(region), curve);
-            const double prepare_time = ms_since(edit);
-            p = prepared;  // for the reference, not timed
-            DeformationOptions options = p.scene.options;
-            options.tolerance = fixed_steps > 0 ? 0.0 : tolerance;
-            if (fixed_steps > 0) options.steps = fixed_steps;
-            const auto run_start = Clock::now();
-            run = integrate(std::move(prepared), options);
-            const double curve_edit = prepare_time + ms_since(run_start);
-            region_ms.push_back(region_time);
-            curve_edit_ms.push_back(curve_edit);
-            region_edit_ms.push_back(region_time + curve_edit);
-            // The same curve edit again, from the rest state the run left.
-            Region same = p.region;  // the editor holds the region: not timed
-            const auto kept = Clock::now();
-            const Run from_rest = integrate_from(run.rest, prepare(open, std::move(same), curve), options);
-            rest_kept_ms.push_back(ms_since(kept));
-            if (from_rest.positions != run.positions)
-                throw std::logic_error(c.name + ": the run from the kept rest state differs from the run");
-        }
+        for (int r = 0; r < repeat; ++r)
+            for (std::size_t k = 0; k < limits.size(); ++k) {
+                if (busy) set_parallel_thread_limit(limits[k]);
+                run = time_edits(c, open, fixed_steps > 0 ? 0.0 : tolerance, fixed_steps, times[k], p);
+            }
+        if (busy) set_parallel_thread_limit(0);
         const double size = centred_diameter(p.file.mesh.positions);
         char deviation[2][32] = {"-", "-"}, fold_text[32];
         std::snprintf(fold_text, sizeof fold_text, "%zu / -", folds(p, run.positions));
@@ -228,9 +260,21 @@ int run_latency_bench(const Args& args) {
             std::snprintf(fold_text, sizeof fold_text, "%zu / %zu", folds(p, run.positions),
                           folds(p, reference.positions));
         }
-        std::printf("%-30s %9zu %6.1f ms %7.1f ms %7.1f ms %8.1f ms %6d %8d %11s %11s %12s\n", c.name.c_str(),
-                    p.file.mesh.vertex_count(), median(region_ms), median(curve_edit_ms), median(rest_kept_ms),
-                    median(region_edit_ms), run.steps, run.errors.rejected, deviation[0], deviation[1], fold_text);
+        for (std::size_t k = 0; k < limits.size(); ++k) {
+            const EditTimes& t = times[k];
+            const std::string name =
+                busy ? c.name + (limits[k] == 1 ? " [1 thread]"
+                                                : " [" + std::to_string(parallel_thread_count()) + " threads]")
+                     : c.name;
+            std::printf("%-30s %9zu %6.1f ms %7.1f ms %7.1f ms %8.1f ms %6d %8d %11s %11s %12s\n", name.c_str(),
+                        p.file.mesh.vertex_count(), median(t.region), median(t.curve_edit), median(t.rest_kept),
+                        median(t.region_edit), run.steps, run.errors.rejected, deviation[0], deviation[1], fold_text);
+        }
+        if (busy)
+            std::printf("%-30s all threads over one: curve edit %.2f, rest kept %.2f, region edit %.2f\n",
+                        c.name.c_str(), median(times[0].curve_edit) / median(times[1].curve_edit),
+                        median(times[0].rest_kept) / median(times[1].rest_kept),
+                        median(times[0].region_edit) / median(times[1].region_edit));
         std::fflush(stdout);
     }
     return kExitOk;

@@ -90,6 +90,44 @@ TEST_CASE("vfsd bench --latency --quick runs error-controlled steps and compares
     CHECK(found);
 }
 
+TEST_CASE("vfsd bench --latency --busy times all threads and one beside a busy process", "[bench][cli]") {
+    vfsd::test::ScratchDir dir;
+    const std::string args = " bench --latency --quick --busy --repeat 2 --no-reference";
+    const std::string command = std::string("'") + VFSD_CLI_PATH + "'" + args + " > '" + dir.file("latency.txt") + "'";
+    REQUIRE(std::system(command.c_str()) == 0);
+    std::ifstream out(dir.file("latency.txt"));
+    std::string line, all_threads, one_thread, ratio;
+    while (std::getline(out, line)) {
+        if (line.rfind("box bend [1 thread]", 0) == 0)
+            one_thread = line;
+        else if (line.rfind("box bend [", 0) == 0)
+            all_threads = line;
+        else if (line.rfind("box bend ", 0) == 0 && line.find("all threads over one") != std::string::npos)
+            ratio = line;
+    }
+    CHECK(!all_threads.empty());
+    CHECK(!one_thread.empty());
+    // box bend [N threads]  VERTICES  REGION ms  CURVE-EDIT ms  REST-KEPT ms ...: the same scene both ways.
+    const auto fields = [](const std::string& row) {
+        std::istringstream in(row.substr(row.find(']') + 1));
+        double vertices = 0, region = -1, curve_edit = -1;
+        std::string ms;
+        in >> vertices >> region >> ms >> curve_edit;
+        return std::pair{vertices, curve_edit};
+    };
+    CHECK(fields(all_threads).first > 100);
+    CHECK(fields(all_threads).first == fields(one_thread).first);
+    CHECK(fields(all_threads).second > 0);
+    CHECK(fields(one_thread).second > 0);
+    CHECK(ratio.find("curve edit") != std::string::npos);
+    // The busy child is gone once the bench is.
+    const std::string left = std::string("pgrep -x -f -- '") + VFSD_CLI_PATH + args + "' >/dev/null";
+    CHECK(std::system(left.c_str()) != 0);
+    // --busy compares thread counts itself.
+    const std::string both = std::string("'") + VFSD_CLI_PATH + "'" + args + " --threads 1 > /dev/null 2>&1";
+    CHECK(std::system(both.c_str()) != 0);
+}
+
 TEST_CASE("vfsd bench --gpu-schemes times each scheme on the GPU path and an edit to final shape",
           "[bench][cli][gpu]") {
     vfsd::test::ScratchDir dir;
