@@ -117,3 +117,95 @@ TEST_CASE("The pool's choice compares each kind of job with itself", "[parallel]
     CHECK_FALSE(alone_faster({timings(1.0, 0.0, 100.0, 0.0), timings(1e-9, 2e-9, 100.0, 100.0)}));
     CHECK_FALSE(alone_faster({}));
 }
+
+namespace {
+
+// Drives a KindSchedule for `calls` calls of a kind whose jobs take
+// seconds_all on all threads and seconds_alone alone (a fake clock), and
+// returns the ways it ran them (true: alone).
+std::vector<bool> schedule_ways(KindSchedule& schedule, int calls, double seconds_all, double seconds_alone) {
+    std::vector<bool> ways;
+    for (int call = 0; call < calls; ++call) {
+        bool timed = false;
+        const bool alone = schedule.next_alone(timed);
+        if (timed) schedule.record(alone, alone ? seconds_alone : seconds_all, 1000.0);
+        ways.push_back(alone);
+    }
+    return ways;
+}
+
+// The lengths of the runs of calls made `way` in a row, from call `from` on
+// (one the calls end in left out: it may have gone on).
+std::vector<int> runs_of(const std::vector<bool>& ways, bool way, std::size_t from = 0) {
+    std::vector<int> runs;
+    int run = 0;
+    for (std::size_t i = from; i < ways.size(); ++i) {
+        if (ways[i] == way) {
+            ++run;
+        } else if (run > 0) {
+            runs.push_back(run);
+            run = 0;
+        }
+    }
+    return runs;
+}
+
+// The runs longer than a probe: the whiles a way was chosen for.
+std::vector<int> chosen_runs(const std::vector<bool>& ways, bool way, std::size_t from = 0) {
+    std::vector<int> runs;
+    for (const int run : runs_of(ways, way, from))
+        if (run > 2 * KindSchedule::kProbeCalls + 1) runs.push_back(run);
+    return runs;
+}
+
+int longest(const std::vector<int>& runs) { return runs.empty() ? 0 : *std::max_element(runs.begin(), runs.end()); }
+
+}  // namespace
+
+TEST_CASE("Each kind of job is timed both ways, then runs its faster way for longer and longer", "[parallel]") {
+    const int probe = 2 * KindSchedule::kProbeCalls + 1;
+    for (const bool alone_is_faster : {false, true}) {
+        INFO("alone faster: " << alone_is_faster);
+        KindSchedule schedule;
+        const double fast = 1e-4, slow = 2e-4;
+        const std::vector<bool> ways =
+            schedule_ways(schedule, 20000, alone_is_faster ? slow : fast, alone_is_faster ? fast : slow);
+        // The first probe: the first call on all threads (untimed), then the two ways in turn.
+        int alone_in_probe = 0;
+        for (int i = 0; i < probe; ++i) alone_in_probe += ways[i];
+        CHECK_FALSE(ways[0]);
+        CHECK(alone_in_probe == KindSchedule::kProbeCalls);
+        // Then the faster way, for whiles that double from the first to the longest
+        // (a while ends in the next probe, whose calls that way join it).
+        const std::vector<int> runs = chosen_runs(ways, alone_is_faster, probe);
+        REQUIRE(runs.size() >= 4);
+        CHECK(runs[0] >= KindSchedule::kFirstChosenCalls);
+        CHECK(runs[0] < 2 * KindSchedule::kFirstChosenCalls);
+        for (std::size_t i = 1; i < runs.size(); ++i) CHECK(runs[i] >= runs[i - 1]);
+        CHECK(runs.back() >= KindSchedule::kMaxChosenCalls);
+        CHECK(runs.back() <= KindSchedule::kMaxChosenCalls + probe);
+        // The slower way only in probes: never twice in a row.
+        CHECK(longest(runs_of(ways, !alone_is_faster, probe)) == 1);
+    }
+}
+
+TEST_CASE("A kind whose faster way changes soon takes the new way", "[parallel]") {
+    // Settled on all threads for the longest while, then the machine gets busy:
+    // alone is faster from then on. Within the longest while and a probe, the
+    // kind runs alone, and on all threads only in its probes.
+    KindSchedule schedule;
+    schedule_ways(schedule, 20000, 1e-4, 2e-4);
+    const int probe = 2 * KindSchedule::kProbeCalls + 1;
+    const std::vector<bool> busy = schedule_ways(schedule, 4 * KindSchedule::kMaxChosenCalls, 2e-4, 1e-4);
+    const std::size_t settled = KindSchedule::kMaxChosenCalls + probe;
+    CHECK(longest(runs_of(busy, false, settled)) == 1);
+    CHECK(longest(chosen_runs(busy, true, settled)) >= KindSchedule::kMaxChosenCalls);
+    // A new choice starts with the first while again.
+    CHECK(chosen_runs(busy, true)[0] < 2 * KindSchedule::kFirstChosenCalls);
+    // A restarted kind probes afresh, with the first while.
+    schedule.restart();
+    CHECK(schedule.probing());
+    const std::vector<bool> again = schedule_ways(schedule, 1000, 1e-4, 2e-4);
+    REQUIRE_FALSE(chosen_runs(again, false).empty());
+    CHECK(chosen_runs(again, false)[0] < 2 * KindSchedule::kFirstChosenCalls);
+}

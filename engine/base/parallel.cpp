@@ -33,6 +33,7 @@ bool spin_until(const Ready& ready, std::chrono::microseconds budget) {
 #endif
         }
         if (std::chrono::steady_clock::now() > deadline) return ready();
+        std::this_thread::yield();  // a thread the system wants to run on this core goes first
     }
 }
 
@@ -41,29 +42,28 @@ constexpr std::chrono::microseconds kSpin{200};
 // On a busy machine the threads together can run far slower than the caller
 // alone: a worker the system does not run holds up every job until it does;
 // and a light job on few items gains less from a second thread than handing it
-// over costs. So the pool measures: every 2 kProbeCalls + kChosenCalls jobs it
-// times 2 kProbeCalls of them, each kind of job (each call site's body)
-// alternately on all threads and on the caller alone, and runs each kind the
-// faster way for the next kChosenCalls jobs. Each kind is compared with itself:
-// a step's passes differ per item by tens of times (a smoothing sweep against
-// the field's RK4), and timing one window of jobs on all threads and the next
-// alone compared different mixes of passes (on an idle 2-core machine it often
-// chose the caller alone for all; docs/benchmarks.md). Idle, the probe's calls
-// alone cost about half a percent; busy, those on all threads about as much.
-constexpr int kProbeCalls = 64;
-constexpr int kChosenCalls = 16384;
+// over costs. So the pool times each kind of job (each call site's body) both
+// ways and runs it the faster way (KindSchedule, parallel.h). Each kind is
+// compared with itself: a step's passes differ per item by tens of times (a
+// smoothing sweep against the field's RK4), and timing one window of jobs on
+// all threads and the next alone compared different mixes of passes (on an idle
+// 2-core machine it often chose the caller alone for all; docs/benchmarks.md).
+//
 // A worker that shares its core with another process runs in the system's
 // time slices (milliseconds): a job it began just before its slice ended
 // waits for the next. Few jobs do, but each waits tens of times its length,
 // and a probe of a few jobs per kind rarely sees one. So when kLateWorkers of
 // kLateWindow jobs on all threads left the caller waiting for a worker longer
-// than its own share took (plus 50 µs), every kind runs alone until a probe
-// kBusyCalls jobs later. Idle, a late worker is rare (a page touched for the
-// first time, the system's own interruptions), and the probe then gives the
-// kinds their second thread back.
+// than its own share took (plus 50 µs), every kind runs alone for a spell of
+// kBusyCalls jobs, and then each is timed again. A spell that ends in another
+// before kBusyCalls jobs pass doubles, up to kMaxBusyCalls: a load that stays
+// then costs a probe and a few late jobs a long while, not every few edits.
+// Idle, a late worker is rare (a page touched for the first time, the system's
+// own interruptions), and the probes give the kinds their second thread back.
 constexpr int kLateWorkers = 4;
 constexpr int kLateWindow = 256;
 constexpr int kBusyCalls = 2048;
+constexpr int kMaxBusyCalls = 32 * kBusyCalls;
 
 // Workers wait for a generation number to change, claim their chunk of the
 // current job, run it and count down; the caller runs its own chunk, claims and
@@ -88,35 +88,26 @@ public:
 
     void run(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
         std::lock_guard<std::mutex> one_caller(call_mutex_);  // callers take turns
-        Kind& kind = kind_of(body.target_type());
-        if (calls_left_ > 0) {  // the way chosen
-            --calls_left_;
-            if (kind.alone || busy_) {
-                body(0, n);
-            } else {
-                late_workers_ += run_on_all(n, body) ? 0 : 1;
-                if (late_workers_ == kLateWorkers)  // every kind alone until a probe, soon
-                    busy_ = true, calls_left_ = std::min(calls_left_, kBusyCalls);
-                if (++window_calls_ == kLateWindow) window_calls_ = 0, late_workers_ = 0;
+        ++calls_;
+        if (busy_left_ > 0) {  // a busy spell: every kind alone
+            if (--busy_left_ == 0) {
+                spell_end_ = calls_;
+                for (Kind& k : kinds_) k.schedule.restart();
             }
+            body(0, n);
             return;
         }
-        busy_ = false, late_workers_ = window_calls_ = 0;
-        const int call = kind.calls++, alone = call % 2;
+        KindSchedule& kind = kind_of(body.target_type());
+        bool timed = false;
+        const bool alone = kind.next_alone(timed);
         const auto start = std::chrono::steady_clock::now();
         if (alone)
             body(0, n);
         else
-            run_on_all(n, body);
-        if (call > 0) {  // a kind's first job warms its caches and buffers
-            kind.timings.seconds[alone] +=
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            kind.timings.items[alone] += double(n);
-        }
-        if (++probe_calls_ < 2 * kProbeCalls) return;
-        choose();
-        probe_calls_ = 0;
-        calls_left_ = kChosenCalls;
+            count_late(!run_on_all(n, body));
+        if (timed)
+            kind.record(alone, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                        double(n));
     }
 
 private:
@@ -150,6 +141,19 @@ private:
             done_.wait(lock, done);
         }
         return std::chrono::steady_clock::now() - waiting <= waiting - start + kSpin / 4;
+    }
+
+    // Starts a busy spell at kLateWorkers late jobs in kLateWindow.
+    void count_late(bool late) {
+        late_workers_ += late ? 1 : 0;
+        if (late_workers_ == kLateWorkers) {
+            const bool again = spell_end_ > 0 && calls_ - spell_end_ < kBusyCalls;
+            busy_spell_ = again ? std::min(2 * busy_spell_, kMaxBusyCalls) : kBusyCalls;
+            busy_left_ = busy_spell_;
+            late_workers_ = window_calls_ = 0;
+        } else if (++window_calls_ == kLateWindow) {
+            late_workers_ = window_calls_ = 0;
+        }
     }
 
     // True for the first to claim chunk `index` of job `generation`.
@@ -200,39 +204,21 @@ private:
     std::atomic<unsigned long> generation_{0};
     std::vector<std::atomic<unsigned long>> claimed_;  // per chunk, the last job that claimed it
     bool stop_ = false;
-    // The measurement above and the way chosen, per kind of job. The kind is
-    // the body's type_info, told apart by address (a lookup by name would
-    // compare mangled names on every call).
+    // Each kind's schedule. The kind is the body's type_info, told apart by
+    // address (a lookup by name would compare mangled names on every call).
     struct Kind {
         const std::type_info* type;
-        bool alone;
-        int calls = 0;
-        JobTimings timings;
+        KindSchedule schedule;
     };
-    Kind& kind_of(const std::type_info& type) {
+    KindSchedule& kind_of(const std::type_info& type) {
         for (Kind& k : kinds_)
-            if (k.type == &type) return k;
-        return kinds_.emplace_back(Kind{&type, alone_by_default_, 0, JobTimings{}});
-    }
-    // Each kind timed both ways takes its faster way; the others, and kinds
-    // first seen later, the way that is faster over all kinds timed.
-    void choose() {
-        std::vector<JobTimings> timings;
-        for (const Kind& k : kinds_) timings.push_back(k.timings);
-        alone_by_default_ = alone_faster(timings);
-        for (Kind& k : kinds_) {
-            const bool timed = k.timings.items[0] > 0.0 && k.timings.items[1] > 0.0;
-            k.alone = timed ? alone_faster({k.timings}) : alone_by_default_;
-            k.calls = 0;
-            k.timings = JobTimings{};
-        }
+            if (k.type == &type) return k.schedule;
+        return kinds_.emplace_back(Kind{&type, KindSchedule{}}).schedule;
     }
     std::vector<Kind> kinds_;
-    int probe_calls_ = 0;
-    int calls_left_ = 0;  // 0: probing (from the first jobs on)
+    long calls_ = 0, spell_end_ = 0;  // calls so far; the call that ended the last busy spell
+    int busy_left_ = 0, busy_spell_ = kBusyCalls;
     int late_workers_ = 0, window_calls_ = 0;
-    bool busy_ = false;
-    bool alone_by_default_ = false;
 };
 
 Pool& pool() {
@@ -253,6 +239,30 @@ bool alone_faster(const std::vector<JobTimings>& kinds) {
         alone += items * k.seconds[1] / k.items[1];
     }
     return alone < all;
+}
+
+bool KindSchedule::next_alone(bool& timed) {
+    if (left_ > 0) {
+        --left_;
+        timed = false;
+        return alone_;
+    }
+    const int call = calls_++;
+    timed = call > 0;
+    return call % 2 == 1;  // all threads first (untimed), then alone and all in turn
+}
+
+void KindSchedule::record(bool was_alone, double seconds, double items) {
+    timings_.seconds[was_alone ? 1 : 0] += seconds;
+    timings_.items[was_alone ? 1 : 0] += items;
+    if (calls_ <= 2 * kProbeCalls) return;
+    const bool alone = alone_faster({timings_});
+    chosen_calls_ =
+        chosen_calls_ > 0 && alone == alone_ ? std::min(2 * chosen_calls_, kMaxChosenCalls) : kFirstChosenCalls;
+    alone_ = alone;
+    left_ = chosen_calls_;
+    calls_ = 0;
+    timings_ = JobTimings{};
 }
 
 unsigned parallel_thread_count() {

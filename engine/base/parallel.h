@@ -3,9 +3,11 @@
 // runs them on a persistent pool (the calling thread takes the first chunk).
 // Small ranges, and builds without threads (WebAssembly), run serially; so do
 // calls while the pool finds the calling thread alone faster (it times each
-// call site's jobs both ways every few thousand calls), and all calls while
-// workers keep arriving late (another process on their cores). A worker's chunk
-// that it has not begun when the caller is done with its own, the caller runs.
+// call site's jobs both ways now and then: KindSchedule below), and all calls
+// while workers keep arriving late (another process on their cores). A worker's
+// chunk that it has not begun when the caller is done with its own, the caller
+// runs; threads waiting for work or for each other spin, but let another thread
+// that wants their core run first.
 // The passes of deform/passes.h use it; each call is a barrier. Calls from
 // several threads take turns; `body` must not call parallel_for itself.
 
@@ -61,11 +63,41 @@ struct JobTimings {
     double seconds[2] = {0.0, 0.0};
     double items[2] = {0.0, 0.0};
 };
-// The pool's choice: true if the kinds' jobs would have taken less time alone,
-// each kind at its own time per item (a kind timed one way only is left out).
-// Pooling the items of different kinds would weigh each way by the kinds it
-// happened to time.
+// True if the kinds' jobs would have taken less time alone, each kind at its
+// own time per item (a kind timed one way only is left out). Pooling the items
+// of different kinds would weigh each way by the kinds it happened to time.
 bool alone_faster(const std::vector<JobTimings>& kinds);
+
+// How the pool runs one kind of job: it times the kind both ways, alternately,
+// until it has kProbeCalls timed calls each way (its first call, which warms
+// caches and buffers, untimed), then runs it the faster way for a while, then
+// times it again. The while starts at kFirstChosenCalls calls and doubles each
+// time the probe chooses as before, up to kMaxChosenCalls, so that a kind soon
+// settles into its way and a change (a busy machine) is still found. Each kind
+// keeps its own count: a kind called once a step is measured as well as the
+// smoothing's sweep, called ten times a step (one window of calls over all kinds
+// gave the rarer kinds a sample or two, and its choice then held for the whole
+// of a bench).
+class KindSchedule {
+public:
+    static constexpr int kProbeCalls = 4;
+    static constexpr int kFirstChosenCalls = 256;
+    static constexpr int kMaxChosenCalls = 4096;
+    // The way of the kind's next call (true: the caller alone), and whether to
+    // time it and record() what it took.
+    bool next_alone(bool& timed);
+    void record(bool alone, double seconds, double items);
+    // Times the kind again from its next call, as if new (a busy spell ended).
+    void restart() { *this = KindSchedule{}; }
+    bool probing() const { return left_ == 0; }
+
+private:
+    int calls_ = 0;         // calls into the current probe
+    int left_ = 0;          // calls left the way chosen; 0: probing
+    int chosen_calls_ = 0;  // the last while (0: none yet)
+    bool alone_ = false;
+    JobTimings timings_;
+};
 
 // Number of threads parallel_for uses (1 where threads are unavailable).
 unsigned parallel_thread_count();
