@@ -55,9 +55,10 @@ constexpr std::chrono::microseconds kSpin{200};
 // and a probe of a few jobs per kind rarely sees one. So when kLateWorkers of
 // kLateWindow jobs on all threads left the caller waiting for a worker longer
 // than its own share took (plus 50 µs), every kind runs alone for a spell of
-// kBusyCalls jobs, and then each is timed again. A spell that ends in another
-// before kBusyCalls jobs pass doubles, up to kMaxBusyCalls: a load that stays
-// then costs a probe and a few late jobs a long while, not every few edits.
+// kBusyCalls jobs, and then each is timed again. One late worker within
+// kBusyCalls jobs of a spell's end starts the next, twice as long, up to
+// kMaxBusyCalls: each late job costs a time slice, so a load that stays then
+// costs a probe and one late job a long while, not four every few edits.
 // Idle, a late worker is rare (a page touched for the first time, the system's
 // own interruptions), and the probes give the kinds their second thread back.
 constexpr int kLateWorkers = 4;
@@ -143,11 +144,12 @@ private:
         return std::chrono::steady_clock::now() - waiting <= waiting - start + kSpin / 4;
     }
 
-    // Starts a busy spell at kLateWorkers late jobs in kLateWindow.
+    // Starts a busy spell at kLateWorkers late jobs in kLateWindow, or at one
+    // within kBusyCalls jobs of the last spell's end (the load stayed).
     void count_late(bool late) {
         late_workers_ += late ? 1 : 0;
-        if (late_workers_ == kLateWorkers) {
-            const bool again = spell_end_ > 0 && calls_ - spell_end_ < kBusyCalls;
+        const bool again = spell_end_ > 0 && calls_ - spell_end_ < kBusyCalls;
+        if (late_workers_ == (again ? 1 : kLateWorkers)) {
             busy_spell_ = again ? std::min(2 * busy_spell_, kMaxBusyCalls) : kBusyCalls;
             busy_left_ = busy_spell_;
             late_workers_ = window_calls_ = 0;
