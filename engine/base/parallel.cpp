@@ -9,6 +9,12 @@
 #include <typeinfo>
 #include <vector>
 
+#if defined(VFSD_TBB)
+#include <tbb/blocked_range.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#endif
+
 namespace vfsd {
 namespace {
 
@@ -18,6 +24,7 @@ constexpr bool kThreads = false;
 constexpr bool kThreads = true;
 #endif
 
+#if !defined(VFSD_TBB)
 // Spins for up to `budget` on `ready` before giving up. A deformation step is
 // a dozen parallel_for calls microseconds apart (one per pass and smoothing
 // step): waking a sleeping thread through the kernel takes about as long as a
@@ -228,6 +235,8 @@ Pool& pool() {
     return instance;
 }
 
+#endif  // !VFSD_TBB
+
 std::atomic<unsigned> thread_limit{0};
 
 }  // namespace
@@ -269,7 +278,12 @@ void KindSchedule::record(bool was_alone, double seconds, double items) {
 
 unsigned parallel_thread_count() {
     const unsigned limit = thread_limit.load();
-    return limit == 0 ? pool().size() : std::min(limit, pool().size());
+#if defined(VFSD_TBB)
+    const unsigned all = static_cast<unsigned>(std::max(1, tbb::info::default_concurrency()));
+#else
+    const unsigned all = pool().size();
+#endif
+    return limit == 0 ? all : std::min(limit, all);
 }
 
 void set_parallel_thread_limit(unsigned threads) { thread_limit = threads; }
@@ -279,7 +293,15 @@ void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size
         if (n > 0) body(0, n);
         return;
     }
+#if defined(VFSD_TBB)
+    // oneTBB's work stealing instead of the pool (VFSD_TBB, for comparison:
+    // docs/benchmarks.md, "The pool against oneTBB"): chunks of at least a
+    // quarter of the grain, split further as its partitioner sees fit.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(1, grain / 4)),
+                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+#else
     pool().run(n, body);
+#endif
 }
 
 }  // namespace vfsd
