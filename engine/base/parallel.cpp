@@ -61,13 +61,18 @@ constexpr std::chrono::microseconds kSpin{200};
 // waits for the next. Few jobs do, but each waits tens of times its length,
 // and a probe of a few jobs per kind rarely sees one. So when kLateWorkers of
 // kLateWindow jobs on all threads left the caller waiting for a worker longer
-// than its own share took (plus 50 µs), every kind runs alone for a spell of
+// than its own share took plus kLateWait, every kind runs alone for a spell of
 // kBusyCalls jobs, and then each is timed again. One late worker within
 // kBusyCalls jobs of a spell's end starts the next, twice as long, up to
 // kMaxBusyCalls: each late job costs a time slice, so a load that stays then
 // costs a probe and one late job a long while, not four every few edits.
 // Idle, a late worker is rare (a page touched for the first time, the system's
 // own interruptions), and the probes give the kinds their second thread back.
+// A worker waking from its sleep takes up to a tenth of a millisecond on a
+// virtual machine (70–100 µs measured on the 2-core one, where a wait longer
+// than 50 µs sent an idle bench alone for most of its run); a time slice is
+// longer than kLateWait.
+constexpr std::chrono::microseconds kLateWait{500};
 constexpr int kLateWorkers = 4;
 constexpr int kLateWindow = 256;
 constexpr int kBusyCalls = 2048;
@@ -148,7 +153,7 @@ private:
             std::unique_lock<std::mutex> lock(mutex_);
             done_.wait(lock, done);
         }
-        return std::chrono::steady_clock::now() - waiting <= waiting - start + kSpin / 4;
+        return std::chrono::steady_clock::now() - waiting <= waiting - start + kLateWait;
     }
 
     // Starts a busy spell at kLateWorkers late jobs in kLateWindow, or at one
@@ -264,16 +269,25 @@ bool KindSchedule::next_alone(bool& timed) {
 }
 
 void KindSchedule::record(bool was_alone, double seconds, double items) {
-    timings_.seconds[was_alone ? 1 : 0] += seconds;
-    timings_.items[was_alone ? 1 : 0] += items;
+    const int way = was_alone ? 1 : 0;
+    if (timed_[way] < kProbeCalls) per_item_[way][timed_[way]++] = seconds / std::max(1.0, items);
     if (calls_ <= 2 * kProbeCalls) return;
-    const bool alone = alone_faster({timings_});
+    // Each way by the median of its times per item: on a noisy machine one
+    // call in a few takes several times its share, and a sum of four chose the
+    // caller alone for passes twice as fast on two threads.
+    JobTimings medians;
+    for (int w = 0; w < 2; ++w) {
+        double* first = per_item_[w];
+        std::sort(first, first + kProbeCalls);
+        medians.seconds[w] = 0.5 * (first[(kProbeCalls - 1) / 2] + first[kProbeCalls / 2]);
+        medians.items[w] = 1.0;
+    }
+    const bool alone = alone_faster({medians});
     chosen_calls_ =
         chosen_calls_ > 0 && alone == alone_ ? std::min(2 * chosen_calls_, kMaxChosenCalls) : kFirstChosenCalls;
     alone_ = alone;
     left_ = chosen_calls_;
-    calls_ = 0;
-    timings_ = JobTimings{};
+    calls_ = timed_[0] = timed_[1] = 0;
 }
 
 unsigned parallel_thread_count() {

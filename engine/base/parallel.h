@@ -70,8 +70,8 @@ bool alone_faster(const std::vector<JobTimings>& kinds);
 
 // How the pool runs one kind of job: it times the kind both ways, alternately,
 // until it has kProbeCalls timed calls each way (its first call, which warms
-// caches and buffers, untimed), then runs it the faster way for a while, then
-// times it again. The while starts at kFirstChosenCalls calls and doubles each
+// caches and buffers, untimed), then runs the way with the lower median time
+// per item for a while, then times it again. The while starts at kFirstChosenCalls calls and doubles each
 // time the probe chooses as before, up to kMaxChosenCalls, so that a kind soon
 // settles into its way and a change (a busy machine) is still found. Each kind
 // keeps its own count: a kind called once a step is measured as well as the
@@ -96,7 +96,8 @@ private:
     int left_ = 0;          // calls left the way chosen; 0: probing
     int chosen_calls_ = 0;  // the last while (0: none yet)
     bool alone_ = false;
-    JobTimings timings_;
+    int timed_[2] = {0, 0};                 // timed calls each way in the current probe
+    double per_item_[2][kProbeCalls] = {};  // their seconds per item: [0] all threads, [1] alone
 };
 
 // Number of threads parallel_for uses (1 where threads are unavailable).
