@@ -246,17 +246,6 @@ std::atomic<unsigned> thread_limit{0};
 
 }  // namespace
 
-bool alone_faster(const std::vector<JobTimings>& kinds) {
-    double all = 0.0, alone = 0.0;
-    for (const JobTimings& k : kinds) {
-        if (k.items[0] == 0.0 || k.items[1] == 0.0) continue;
-        const double items = k.items[0] + k.items[1];
-        all += items * k.seconds[0] / k.items[0];
-        alone += items * k.seconds[1] / k.items[1];
-    }
-    return alone < all;
-}
-
 bool KindSchedule::next_alone(bool& timed) {
     if (left_ > 0) {
         --left_;
@@ -275,14 +264,13 @@ void KindSchedule::record(bool was_alone, double seconds, double items) {
     // Each way by the median of its times per item: on a noisy machine one
     // call in a few takes several times its share, and a sum of four chose the
     // caller alone for passes twice as fast on two threads.
-    JobTimings medians;
+    double median[2];
     for (int w = 0; w < 2; ++w) {
         double* first = per_item_[w];
         std::sort(first, first + kProbeCalls);
-        medians.seconds[w] = 0.5 * (first[(kProbeCalls - 1) / 2] + first[kProbeCalls / 2]);
-        medians.items[w] = 1.0;
+        median[w] = 0.5 * (first[(kProbeCalls - 1) / 2] + first[kProbeCalls / 2]);
     }
-    const bool alone = alone_faster({medians});
+    const bool alone = median[1] < median[0];
     chosen_calls_ =
         chosen_calls_ > 0 && alone == alone_ ? std::min(2 * chosen_calls_, kMaxChosenCalls) : kFirstChosenCalls;
     alone_ = alone;

@@ -57,17 +57,6 @@ double parallel_sum(std::size_t n, const Term& term) {
     return total;
 }
 
-// What the pool timed of one kind of job (one call site's body): [0] on all
-// threads, [1] on the calling thread alone.
-struct JobTimings {
-    double seconds[2] = {0.0, 0.0};
-    double items[2] = {0.0, 0.0};
-};
-// True if the kinds' jobs would have taken less time alone, each kind at its
-// own time per item (a kind timed one way only is left out). Pooling the items
-// of different kinds would weigh each way by the kinds it happened to time.
-bool alone_faster(const std::vector<JobTimings>& kinds);
-
 // How the pool runs one kind of job: it times the kind both ways, alternately,
 // until it has kProbeCalls timed calls each way (its first call, which warms
 // caches and buffers, untimed), then runs the way with the lower median time
