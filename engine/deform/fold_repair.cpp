@@ -293,7 +293,7 @@ void FoldRepair::fit_images(std::uint32_t i, const std::vector<Vec3>& x, Vec3& f
 // vertices (the others keep their last result).
 std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
                                               const std::vector<std::uint32_t>* moved, std::size_t& neighbour) {
-    std::vector<std::uint32_t> out = folded(x);
+    std::vector<std::uint32_t> out = folded(x, moved);
     neighbour = out.size();
     if (!affine_test) return out;
     test_affine(x, rings, moved);
@@ -308,34 +308,61 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const 
 }
 
 // The at_rest_->check entries (positions in at_rest_->check) whose triangle faces against the mean
-// normal of its edge neighbours in x and did not at rest.
-std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x) {
-    normals_.resize(at_rest_->triangles.size());
-    parallel_for(at_rest_->triangles.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, at_rest_->triangles[t]);
-    });
-    flags_.resize(at_rest_->check.size());
-    parallel_for(at_rest_->check.size(), [&](std::size_t first, std::size_t last) {
-        const AtRest& rest = *at_rest_;
-        for (std::size_t i = first; i < last; ++i) {
-            const std::uint32_t begin = rest.neighbour_offsets[i], end = rest.neighbour_offsets[i + 1];
-            if (rest.against_at_rest[i] || begin == end) {
-                flags_[i] = 0;
-                continue;
+// normal of its edge neighbours in x and did not at rest. With `moved`, x differs
+// from the positions of the last call only at those vertices (as in a repair's
+// rounds): only the triangles with a moved corner take their normals again, and
+// only the entries of those triangles or bordering them are tested again; the
+// others keep their flags. The same bits as testing every entry.
+std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const std::vector<std::uint32_t>* moved) {
+    const AtRest& rest = *at_rest_;
+    if (!moved || normals_.size() != rest.triangles.size() || flags_.size() != rest.check.size()) {
+        normals_.resize(rest.triangles.size());
+        parallel_for(rest.triangles.size(), [&](std::size_t first, std::size_t last) {
+            for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, rest.triangles[t]);
+        });
+        flags_.resize(rest.check.size());
+        parallel_for(rest.check.size(), [&](std::size_t first, std::size_t last) {
+            for (std::size_t i = first; i < last; ++i) flags_[i] = faces_against_neighbours(i);
+        });
+    } else {
+        for (const std::uint32_t v : *moved) near_[v] = 1;
+        touched_.resize(rest.triangles.size());
+        parallel_for(rest.triangles.size(), [&](std::size_t first, std::size_t last) {
+            for (std::size_t t = first; t < last; ++t) {
+                const Triangle& triangle = rest.triangles[t];
+                touched_[t] = near_[triangle[0]] | near_[triangle[1]] | near_[triangle[2]];
+                if (touched_[t]) normals_[t] = unit_normal(x, triangle);
             }
-            double sx = 0.0, sy = 0.0, sz = 0.0;  // the neighbours' normals' sum, in scalars (geometry.cpp's ring sums)
-            for (std::uint32_t k = begin; k < end; ++k) {
-                const Vec3& m = normals_[rest.neighbours[k]];
-                sx += m.x, sy += m.y, sz += m.z;
+        });
+        for (const std::uint32_t v : *moved) near_[v] = 0;
+        parallel_for(rest.check.size(), [&](std::size_t first, std::size_t last) {
+            for (std::size_t i = first; i < last; ++i) {
+                bool touched = touched_[rest.check[i]];
+                for (std::uint32_t k = rest.neighbour_offsets[i]; k < rest.neighbour_offsets[i + 1] && !touched; ++k)
+                    touched = touched_[rest.neighbours[k]];
+                if (touched) flags_[i] = faces_against_neighbours(i);
             }
-            const Vec3& n = normals_[rest.check[i]];
-            flags_[i] = n.x * sx + n.y * sy + n.z * sz < 0.0;
-        }
-    });
+        });
+    }
     std::vector<std::uint32_t> out;
-    for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i)
+    for (std::uint32_t i = 0; i < rest.check.size(); ++i)
         if (flags_[i]) out.push_back(i);
     return out;
+}
+
+// Whether at_rest_->check entry i's triangle faces against the sum of its
+// neighbours' unit normals in normals_, and did not at rest.
+bool FoldRepair::faces_against_neighbours(std::size_t i) const {
+    const AtRest& rest = *at_rest_;
+    const std::uint32_t begin = rest.neighbour_offsets[i], end = rest.neighbour_offsets[i + 1];
+    if (rest.against_at_rest[i] || begin == end) return false;
+    double sx = 0.0, sy = 0.0, sz = 0.0;  // the neighbours' normals' sum, in scalars (geometry.cpp's ring sums)
+    for (std::uint32_t k = begin; k < end; ++k) {
+        const Vec3& m = normals_[rest.neighbours[k]];
+        sx += m.x, sy += m.y, sz += m.z;
+    }
+    const Vec3& n = normals_[rest.check[i]];
+    return n.x * sx + n.y * sy + n.z * sz < 0.0;
 }
 
 // Per at_rest_->check entry, n·Σm in x: its triangle's unit normal against the sum of
@@ -696,8 +723,8 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
 
 std::size_t FoldRepair::bytes(bool shared) const {
     const auto capacity = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    const std::size_t scratch = capacity(normals_) + capacity(flags_) + capacity(mark_) + capacity(sums_) +
-                                capacity(affine_flags_) + capacity(near_);
+    const std::size_t scratch = capacity(normals_) + capacity(flags_) + capacity(touched_) + capacity(mark_) +
+                                capacity(sums_) + capacity(affine_flags_) + capacity(near_);
     if (!shared) return scratch;
     const AtRest& r = *at_rest_;
     return scratch + capacity(r.rest) + capacity(r.input_index) + capacity(r.movable) + capacity(r.triangles) +

@@ -135,7 +135,8 @@ public:
     };
 
 private:
-    std::vector<std::uint32_t> folded(const std::vector<Vec3>& x);
+    std::vector<std::uint32_t> folded(const std::vector<Vec3>& x, const std::vector<std::uint32_t>* moved = nullptr);
+    bool faces_against_neighbours(std::size_t entry) const;
     std::vector<float> facings(const std::vector<Vec3>& x);
     std::vector<std::uint32_t> folded(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
                                       const std::vector<std::uint32_t>* moved, std::size_t& neighbour);
@@ -171,8 +172,9 @@ private:
         std::vector<RestFit> rest_fits;  // per check entry
     };
     std::shared_ptr<AtRest> at_rest_ = std::make_shared<AtRest>();
-    std::vector<Vec3> normals_;                  // per triangles entry, scratch
-    std::vector<std::uint8_t> flags_;            // per check entry, scratch
+    std::vector<Vec3> normals_;                  // per triangles entry: unit normals in the last tested positions
+    std::vector<std::uint8_t> flags_;            // per check entry: the neighbour test's last result
+    std::vector<std::uint8_t> touched_;          // per triangles entry, scratch
     std::vector<std::uint8_t> mark_;             // per vertex, scratch
     std::vector<StarSums> sums_;                 // per fit vertex, now: held only while a repair runs
     std::vector<std::uint8_t> affine_flags_;     // per check entry: the affine test's last result
