@@ -165,7 +165,18 @@ void run_fast_marching(const std::vector<Vec3>& p, const VertexRings& rings, dou
     std::vector<std::uint8_t> accepted(dist.size(), 0);
     std::priority_queue<MarchEntry, std::vector<MarchEntry>, std::greater<MarchEntry>> heap;
     for (std::uint32_t v = 0; v < dist.size(); ++v)
-        if (dist[v] < kInf) heap.push(entry(dist[v], v));
+        if (dist[v] < kInf) {
+            // A source inside a region of sources (itself and its whole ring at 0)
+            // updates no vertex and no update reaches it: accepted at once, it
+            // stays out of the heap (a painted region's thousands of vertices).
+            bool inside = dist[v] == 0.0 && rings.valence(v) > 0;
+            for (std::uint32_t i = rings.begin(v); i < rings.end(v) && inside; ++i)
+                inside = dist[rings.neighbours[i]] == 0.0;
+            if (inside)
+                accepted[v] = 1;
+            else
+                heap.push(entry(dist[v], v));
+        }
     const auto relax = [&](std::uint32_t v, double d) {
         if (d < dist[v]) {
             dist[v] = d;
@@ -217,19 +228,27 @@ bool is_straight_boundary(const std::vector<Vec3>& p, const VertexRings& rings, 
 // would shift its value by up to half an edge length); boundary corners keep theirs.
 void smooth_distances(const std::vector<Vec3>& p, const VertexRings& rings, const std::vector<double>& seeds,
                       int iterations, std::vector<double>& dist) {
+    if (iterations == 0) return;
+    // Per ring entry, the length of its edge where the kernel weighs it, else 0:
+    // taken once for all passes.
+    std::vector<double> length(rings.neighbours.size(), 0.0);
+    for (std::uint32_t v = 0; v < dist.size(); ++v) {
+        if (seeds[v] < kInf || dist[v] == kInf) continue;
+        const bool boundary = !rings.is_closed(v);
+        if (boundary && !is_straight_boundary(p, rings, v)) continue;
+        for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i)
+            if (!boundary || is_boundary_entry(rings, v, i)) length[i] = glm::length(p[rings.neighbours[i]] - p[v]);
+    }
     std::vector<double> next(dist.size());
     for (int it = 0; it < iterations; ++it) {
         for (std::uint32_t v = 0; v < dist.size(); ++v) {
             next[v] = dist[v];
             if (seeds[v] < kInf || dist[v] == kInf) continue;
             double sum = 0.0, weight = 0.0;
-            const bool boundary = !rings.is_closed(v);
-            if (boundary && !is_straight_boundary(p, rings, v)) continue;
             for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
-                if (boundary && !is_boundary_entry(rings, v, i)) continue;
                 const std::uint32_t w = rings.neighbours[i];
-                const double len = glm::length(p[w] - p[v]);
-                if (dist[w] == kInf || len <= 0.0) continue;
+                const double len = length[i];
+                if (dist[w] == kInf || !(len > 0.0)) continue;
                 sum += dist[w] / len;
                 weight += 1.0 / len;
             }

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <limits>
 
+#include <glm/geometric.hpp>
+
 #include "base/error.h"
 
 namespace vfsd {
@@ -94,6 +96,17 @@ void warn_if_thin(const std::vector<Vec3>& positions, const VertexRings& rings, 
     field.warnings.push_back(message);
 }
 
+// The longest edge of the rings.
+double longest_edge(const std::vector<Vec3>& positions, const VertexRings& rings) {
+    double longest2 = 0.0;
+    for (std::uint32_t v = 0; v < rings.vertex_count(); ++v)
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+            const Vec3 e = positions[rings.neighbours[k]] - positions[v];
+            longest2 = std::max(longest2, glm::dot(e, e));
+        }
+    return std::sqrt(longest2);
+}
+
 }  // namespace
 
 std::vector<double> level_field_from_distance(const std::vector<double>& g, double g_min, double g_max) {
@@ -117,7 +130,16 @@ std::vector<double> geodesic_level_field(const std::vector<Vec3>& positions, con
         throw InputError("geodesic level field: seed vertex " + std::to_string(seed) + " out of range (mesh has " +
                          std::to_string(positions.size()) + " vertices)");
     level_field_from_distance({}, g_min, g_max);  // validate the thresholds before the work
-    return level_field_from_distance(geodesic_distance(positions, rings, {seed}, options), g_min, g_max);
+    // Beyond g_max a distance only says "outer", so the march stops where no
+    // vertex it still decides can see: the distances are 1-Lipschitz along edges
+    // (each edge update bounds them) and k smoothing passes average over k rings,
+    // so a vertex smoothed below g_max has no k-ring vertex farther than
+    // g_max + 2k edges. Those distances, and so s, are the same as from a march
+    // over the whole mesh; the rest is s = 1 either way.
+    GeodesicOptions near = options;
+    const double reach = g_max + 2.0 * (options.smoothing_iterations + 1) * longest_edge(positions, rings);
+    if (std::isfinite(reach)) near.max_distance = std::min(options.max_distance, reach);
+    return level_field_from_distance(geodesic_distance(positions, rings, {seed}, near), g_min, g_max);
 }
 
 int blend_ring_width(const std::vector<double>& s, const VertexRings& rings) {
