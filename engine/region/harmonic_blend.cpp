@@ -73,10 +73,13 @@ std::vector<double> harmonic_blend(const std::vector<Vec3>& positions, const Ver
 
     // A small multiple of the graph Laplacian keeps every row of the system
     // positive where all of a vertex's cotangents are clamped to zero.
+    // The unknowns' ring entries' weights, in order, taken once.
+    std::vector<double> weights;
     double mean_weight = 0.0;
-    std::size_t entries = 0;
     for (const std::uint32_t v : unknowns)
-        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) mean_weight += edge_weight(positions, rings, v, k), ++entries;
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
+            mean_weight += weights.emplace_back(edge_weight(positions, rings, v, k));
+    const std::size_t entries = weights.size();
     const double floor_weight = 1e-10 * (entries > 0 && mean_weight > 0.0 ? mean_weight / double(entries) : 1.0);
 
     // Σ_j w_ij (s_j − s_i) = 0 on the unknowns, the fixed neighbours' terms on the right.
@@ -84,14 +87,15 @@ std::vector<double> harmonic_blend(const std::vector<Vec3>& positions, const Ver
     std::vector<Eigen::Triplet<double>> triplets;
     triplets.reserve(unknowns.size() * 7);
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n), guess(n);
+    const double* weight = weights.data();
     for (const std::uint32_t v : unknowns) {
         const std::int32_t i = index[v];
         guess[i] = s[v];
         double diagonal = 0.0;
-        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+        for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k, ++weight) {
             const std::uint32_t a = rings.neighbours[k];
             if (a == v) continue;
-            const double w = edge_weight(positions, rings, v, k) + floor_weight;
+            const double w = *weight + floor_weight;
             diagonal += w;
             if (index[a] >= 0)
                 triplets.emplace_back(i, index[a], -w);
