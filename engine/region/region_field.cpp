@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "base/error.h"
+#include "base/parallel.h"
 
 namespace vfsd {
 namespace {
@@ -173,17 +174,30 @@ RegionField painted_region_field(const std::vector<Vec3>& positions, const Verte
     }
     GeodesicOptions full = options;
     full.max_distance = kInf;  // eq. (16) needs both distances everywhere
-    const std::vector<double> gi = geodesic_distance_to_region(positions, rings, inner, full);
-    // The outer region less the transition band; with no outer region painted and
-    // a band, everything beyond the band (an inner region alone blends over it).
-    bool any_outer = false;
-    for (std::uint8_t x : painted_outer) any_outer = any_outer || x;
+    std::vector<double> gi, go;
     std::vector<std::uint8_t> outer = painted_outer;
-    for (std::size_t v = 0; v < outer.size(); ++v) {
-        if (!any_outer && band > 0.0) outer[v] = !inner[v] && gi[v] >= band;
-        if (gi[v] < band) outer[v] = 0;
+    if (band == 0.0) {
+        // Without a band the outer region is the painted one, and the two
+        // distances do not depend on each other: one on each thread.
+        parallel_for(
+            2,
+            [&](std::size_t first, std::size_t last) {
+                for (std::size_t k = first; k < last; ++k)
+                    (k == 0 ? gi : go) = geodesic_distance_to_region(positions, rings, k == 0 ? inner : outer, full);
+            },
+            1);
+    } else {
+        gi = geodesic_distance_to_region(positions, rings, inner, full);
+        // The outer region less the transition band; with no outer region
+        // painted, everything beyond the band (an inner region alone blends over it).
+        bool any_outer = false;
+        for (std::uint8_t x : painted_outer) any_outer = any_outer || x;
+        for (std::size_t v = 0; v < outer.size(); ++v) {
+            if (!any_outer) outer[v] = !inner[v] && gi[v] >= band;
+            if (gi[v] < band) outer[v] = 0;
+        }
+        go = geodesic_distance_to_region(positions, rings, outer, full);
     }
-    const std::vector<double> go = geodesic_distance_to_region(positions, rings, outer, full);
     // Eq. (16): s = g_o / (g_i + g_o) * 0 + g_i / (g_i + g_o) * 1.
     for (std::size_t v = 0; v < positions.size(); ++v) {
         if (inner[v]) field.s[v] = 0.0;
