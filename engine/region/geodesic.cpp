@@ -248,7 +248,7 @@ void smooth_distances(const std::vector<Vec3>& p, const VertexRings& rings, cons
             for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
                 const std::uint32_t w = rings.neighbours[i];
                 const double len = length[i];
-                if (dist[w] == kInf || !(len > 0.0)) continue;
+                if (dist[w] == kInf || len <= 0.0) continue;
                 sum += dist[w] / len;
                 weight += 1.0 / len;
             }

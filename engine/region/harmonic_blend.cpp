@@ -71,9 +71,9 @@ std::vector<double> harmonic_blend(const std::vector<Vec3>& positions, const Ver
         if (solve_at[v]) index[v] = static_cast<std::int32_t>(unknowns.size()), unknowns.push_back(v);
     if (unknowns.empty()) return s;
 
-    // A small multiple of the graph Laplacian keeps every row of the system
-    // positive where all of a vertex's cotangents are clamped to zero.
-    // The unknowns' ring entries' weights, in order, taken once.
+    // The unknowns' ring entries' weights, in order, taken once. A small
+    // multiple of the graph Laplacian keeps every row of the system positive
+    // where all of a vertex's cotangents are clamped to zero.
     std::vector<double> weights;
     double mean_weight = 0.0;
     for (const std::uint32_t v : unknowns)

@@ -136,8 +136,9 @@ std::vector<double> geodesic_level_field(const std::vector<Vec3>& positions, con
     // vertex it still decides can see: the distances are 1-Lipschitz along edges
     // (each edge update bounds them) and k smoothing passes average over k rings,
     // so a vertex smoothed below g_max has no k-ring vertex farther than
-    // g_max + 2k edges. Those distances, and so s, are the same as from a march
-    // over the whole mesh; the rest is s = 1 either way.
+    // g_max + 2k edges (the march goes two longest edges further still). Those
+    // distances, and so s, are the same as from a march over the whole mesh;
+    // the rest is s = 1 either way.
     GeodesicOptions near = options;
     const double reach = g_max + 2.0 * (options.smoothing_iterations + 1) * longest_edge(positions, rings);
     if (std::isfinite(reach)) near.max_distance = std::min(options.max_distance, reach);
