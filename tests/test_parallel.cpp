@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -64,6 +67,30 @@ TEST_CASE("parallel_for from several threads at once: the calls take turns", "[p
         });
     for (std::thread& t : callers) t.join();
     CHECK(wrong == 0);
+}
+
+TEST_CASE("An exception in any chunk reaches the caller once every chunk has returned", "[parallel]") {
+    // The item that throws in the caller's chunk (0) or the last worker's (n - 1);
+    // the other chunks take a while, so that a caller that rethrew at once would
+    // leave one of them running on the body it had freed.
+    const std::size_t n = 4 * kParallelGrain;
+    for (const std::size_t thrower : {std::size_t(0), n - 1})
+        for (int call = 0; call < 20; ++call) {
+            std::atomic<int> started{0}, returned{0};
+            const auto body = [&](std::size_t begin, std::size_t end) {
+                started.fetch_add(1);
+                struct Count {
+                    std::atomic<int>& returned;
+                    ~Count() { returned.fetch_add(1); }
+                } count{returned};
+                if (thrower >= begin && thrower < end) throw std::runtime_error("item " + std::to_string(thrower));
+                const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(2);
+                while (std::chrono::steady_clock::now() < until) std::this_thread::yield();
+            };
+            CHECK_THROWS_WITH(parallel_for(n, body), "item " + std::to_string(thrower));
+            CHECK(returned.load() == started.load());
+        }
+    check_each_once(100000, kParallelGrain);  // and the pool goes on
 }
 
 TEST_CASE("parallel_sum gives the same bits on one thread and on all", "[parallel]") {

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <exception>
 #include <mutex>
 #include <thread>
 #include <typeinfo>
@@ -147,13 +148,23 @@ private:
                 pending_.fetch_sub(1, std::memory_order_acq_rel);
             }
         const auto done = [this] { return pending_.load(std::memory_order_acquire) == 0; };
-        if (done()) return true;
-        const auto waiting = std::chrono::steady_clock::now();
-        if (!spin_until(done, kSpin)) {
-            std::unique_lock<std::mutex> lock(mutex_);
-            done_.wait(lock, done);
+        bool on_time = true;
+        if (!done()) {
+            const auto waiting = std::chrono::steady_clock::now();
+            if (!spin_until(done, kSpin)) {
+                std::unique_lock<std::mutex> lock(mutex_);
+                done_.wait(lock, done);
+            }
+            on_time = std::chrono::steady_clock::now() - waiting <= waiting - start + kLateWait;
         }
-        return std::chrono::steady_clock::now() - waiting <= waiting - start + kLateWait;
+        // Every chunk has returned: a chunk's exception now reaches the caller.
+        std::exception_ptr failure;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            failure.swap(failure_);
+        }
+        if (failure) std::rethrow_exception(failure);
+        return on_time;
     }
 
     // Starts a busy spell at kLateWorkers late jobs in kLateWindow, or at one
@@ -178,9 +189,17 @@ private:
         return false;
     }
 
-    void run_chunk(unsigned index, std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) const {
+    // Runs chunk `index`; an exception it throws is kept (the first of a job's)
+    // for the caller to rethrow once every chunk has returned.
+    void run_chunk(unsigned index, std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
         const std::size_t begin = n * index / size(), end = n * (index + 1) / size();
-        if (begin < end) body(begin, end);
+        if (begin >= end) return;
+        try {
+            body(begin, end);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (!failure_) failure_ = std::current_exception();
+        }
     }
 
     void work(unsigned index) {
@@ -215,6 +234,7 @@ private:
     const std::function<void(std::size_t, std::size_t)>* body_ = nullptr;
     std::size_t n_ = 0;
     std::atomic<std::size_t> pending_{0};
+    std::exception_ptr failure_;  // the current job's first exception, under mutex_
     std::atomic<unsigned long> generation_{0};
     std::vector<std::atomic<unsigned long>> claimed_;  // per chunk, the last job that claimed it
     bool stop_ = false;

@@ -9,7 +9,9 @@
 // runs; threads waiting for work or for each other spin, but let another thread
 // that wants their core run first.
 // The passes of deform/passes.h use it; each call is a barrier. Calls from
-// several threads take turns; `body` must not call parallel_for itself.
+// several threads take turns; `body` must not call parallel_for itself. An
+// exception `body` throws on any thread reaches the caller once every chunk
+// has returned (the first one, if several throw).
 
 #include <cstddef>
 #include <functional>

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <limits>
 
 #include <glm/geometric.hpp>
@@ -180,24 +179,14 @@ RegionField painted_region_field(const std::vector<Vec3>& positions, const Verte
     std::vector<std::uint8_t> outer = painted_outer;
     if (band == 0.0) {
         // Without a band the outer region is the painted one, and the two
-        // distances do not depend on each other: one on each thread. A failure
-        // (out of memory) is rethrown here, once both have returned.
-        std::exception_ptr failed[2];
-        const auto distance = [&](std::size_t k) {
-            try {
-                (k == 0 ? gi : go) = geodesic_distance_to_region(positions, rings, k == 0 ? inner : outer, full);
-            } catch (...) {
-                failed[k] = std::current_exception();
-            }
-        };
+        // distances do not depend on each other: one on each thread.
         parallel_for(
             2,
             [&](std::size_t first, std::size_t last) {
-                for (std::size_t k = first; k < last; ++k) distance(k);
+                for (std::size_t k = first; k < last; ++k)
+                    (k == 0 ? gi : go) = geodesic_distance_to_region(positions, rings, k == 0 ? inner : outer, full);
             },
             1);
-        for (const std::exception_ptr& failure : failed)
-            if (failure) std::rethrow_exception(failure);
     } else {
         gi = geodesic_distance_to_region(positions, rings, inner, full);
         // The outer region less the transition band; with no outer region
