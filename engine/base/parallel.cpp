@@ -8,6 +8,7 @@
 #include <mutex>
 #include <thread>
 #include <typeinfo>
+#include <utility>
 #include <vector>
 
 #if defined(VFSD_TBB)
@@ -161,7 +162,7 @@ private:
         std::exception_ptr failure;
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            failure.swap(failure_);
+            failure = std::exchange(failure_, nullptr);
         }
         if (failure) std::rethrow_exception(failure);
         return on_time;
