@@ -5,6 +5,7 @@
 #include <string>
 
 #include "base/error.h"
+#include "deform/cpu_steps.h"
 #include "deform/step_error.h"
 #include "deform/volume_keeper.h"
 #include "field/stream_gauge.h"
@@ -48,9 +49,9 @@ const std::vector<Vec3>& checked_size(const std::vector<Vec3>& positions) {
 
 // The step of CpuSteps::step, pass for pass. With the paper's steps alone it
 // reads nothing back; the stream gauge's fit reads its samples back (two texels
-// each) once per step and fits on the CPU, and the fold test reads one texel per
-// step; the positions are read back, for the CPU's repair, only after a step
-// that folded or one the repair's affine test is due after (every 1/5 in time).
+// each) once per step and fits on the CPU; the positions are read back, for the
+// CPU's fold repair, only after a step the repair is due after (every 1/10 in
+// time), and the fold test's one texel after each repair the keeper followed.
 class GpuSteps final : public StepBackend {
 public:
     GpuSteps(const std::vector<Vec3>& positions, const VertexRings& rings, const Region& region, InnerMotion motion,
@@ -74,6 +75,7 @@ public:
     // estimates its error as the CPU's does (CpuSteps::estimate_error).
     bool estimates_error() const override { return options_.fit_stream_gauge && options_.gradients_at_midpoint; }
     std::vector<double> motion_joins() const override { return motion_.joins(); }
+    bool repairs_folds() const override { return options_.repair_folds; }
 
     StepResult step(double time, double h, int, double max_error) override {
         StepResult result;
@@ -113,9 +115,10 @@ public:
         positions_valid_ = false;
         // CpuSteps::step's order: the keeper, then the repair and the keeper's
         // Newton steps where it left the rings, again while the repair acts.
-        const bool affine_test = FoldRepair::affine_test_due(time, time + h);
+        repaired_here_ = FoldRepair::repair_due(time, time + h);
+        if (!repaired_here_) return result;
         for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
-            if (!repair_folds(affine_test && cycle == 0, cycle == 0) || !keep_volume_) break;
+            if (!repair_folds(cycle == 0, cycle == 0) || !keep_volume_) break;
             for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
                 if (k > 0) passes_.estimate_normals(At::positions);  // the area vectors where the last step left them
                 passes_.keep_volume();
@@ -125,10 +128,22 @@ public:
         return result;
     }
 
+    // Between the repair's times, a copy repaired as CpuSteps::shown_positions
+    // repairs it (the steps go on from the positions on the GPU).
     const std::vector<Vec3>& positions() const override {
-        if (!positions_valid_) positions_ = passes_.read_positions();
+        if (!positions_valid_) positions_ = passes_.read_positions(), shown_valid_ = false;
         positions_valid_ = true;
-        return positions_;
+        if (repaired_here_ || !fold_repair_.active()) return positions_;
+        if (!shown_valid_) {
+            if (!shown_repair_.active()) shown_repair_ = fold_repair_;
+            std::vector<Vec3> work = gather_in_order(positions_, order_);
+            std::vector<Vec3> area_vectors(blend_.size());
+            repair_folds_keeping_volume(work, rings_, blend_, shown_keeper_, shown_repair_, area_vectors);
+            shown_ = positions_;
+            for (std::size_t i = 0; i < order_.size(); ++i) shown_[order_[i]] = work[i];
+            shown_valid_ = true;
+        }
+        return shown_;
     }
 
 private:
@@ -152,6 +167,10 @@ private:
             passes_.set_fold_checks(fold_repair_.checks(), order_);
         }
         keep_volume_ = options_.keep_volume && VolumeKeeper(positions, s, rings, blend_vertices(s)).active();
+        if (options_.repair_folds && keep_volume_) {  // the keeper of the positions shown between the repair's times
+            blend_ = blend_vertices(s_);
+            shown_keeper_ = VolumeKeeper(gather_in_order(positions, order_), s_, rings_, blend_);
+        }
         if (keep_volume_) passes_.measure_rest_volume(bounding_box(positions).centre());
     }
 
@@ -170,10 +189,11 @@ private:
         gauge_fit_ = GaugeFit(std::move(samples));
     }
 
-    // FoldRepair::repair on the CPU after a step the fold pass found folds in, or
-    // one the affine test is due after (it runs on the CPU, on the positions read
-    // back); the repaired positions go back up, with their rings' area vectors
-    // for the keeper. Returns whether it repaired.
+    // FoldRepair::repair on the CPU, on the positions read back: with both tests
+    // after a step the repair is due after, and by the neighbour test alone (once
+    // the fold pass has found folds) after the keeper's moves that followed it;
+    // the repaired positions go back up, with their rings' area vectors for the
+    // keeper. Returns whether it repaired.
     bool repair_folds(bool affine_test, bool new_step) {
         if (!fold_repair_.active() || (!affine_test && passes_.count_folds() == 0)) return false;
         std::vector<Vec3> work = gather_in_order(positions(), order_);
@@ -193,6 +213,12 @@ private:
     double size_ = 0.0;           // centred_diameter at rest
     mutable std::vector<Vec3> positions_;
     mutable bool positions_valid_ = false;
+    bool repaired_here_ = true;        // the last step was one the repair is due after (or there was none)
+    mutable FoldRepair shown_repair_;  // fold_repair_'s twin, for positions() between the repair's times
+    mutable std::vector<Vec3> shown_;
+    mutable bool shown_valid_ = false;
+    std::vector<std::uint32_t> blend_;  // in the work order
+    VolumeKeeper shown_keeper_;
     // The default scheme's state; order_, s_ and rings_ in the CPU's work order.
     std::vector<std::uint32_t> order_;
     std::vector<double> s_, sample_s_;
