@@ -161,8 +161,9 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     // keeper's move folded too.
     repaired_here_ = FoldRepair::repair_due(time, time + h);
     if (repaired_here_)
-        volume_restored_ += repair_folds_keeping_volume(positions_, rest_->rings, rest_->parts.blend, rest_->volume,
-                                                        fold_repair_, area_vectors_);
+        volume_restored_ +=
+            repair_folds_keeping_volume(positions_, rest_->rings, rest_->parts.blend, rest_->volume, fold_repair_,
+                                        FoldRepair::affine_test_due(time, time + h), area_vectors_);
     return result;
 }
 
@@ -206,10 +207,10 @@ const std::vector<Vec3>& CpuSteps::positions() const {
 
 double repair_folds_keeping_volume(std::vector<Vec3>& x, const VertexRings& rings,
                                    const std::vector<std::uint32_t>& blend, const VolumeKeeper& keeper,
-                                   FoldRepair& repair, std::vector<Vec3>& area_vectors) {
+                                   FoldRepair& repair, bool affine_test, std::vector<Vec3>& area_vectors) {
     double restored = 0.0;
     for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
-        repair.repair(x, rings, cycle == 0, cycle == 0);
+        repair.repair(x, rings, affine_test && cycle == 0, cycle == 0);
         if (!repair.acted() || !keeper.active()) break;
         for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
             ring_area_vectors(x, rings, blend, area_vectors);
@@ -221,14 +222,14 @@ double repair_folds_keeping_volume(std::vector<Vec3>& x, const VertexRings& ring
 
 // Between the repair's times (FoldRepair::repair_due) the steps go on from
 // positions the repair has not seen; what is shown there is a copy repaired as
-// a due step's repair would, so that no time shows a fold the repair would have
-// undone.
+// a step at one of those times would be (by the neighbour test: the affine one
+// runs at every other), so that no time shows a fold the repair would undo.
 const std::vector<Vec3>& CpuSteps::shown_positions() const {
     shown_ = positions_;
     if (!fold_repair_.active()) return shown_;
     if (!shown_repair_.active()) shown_repair_ = fold_repair_;
     shown_area_vectors_.resize(rest_->parts.blend.size());
-    repair_folds_keeping_volume(shown_, rest_->rings, rest_->parts.blend, rest_->volume, shown_repair_,
+    repair_folds_keeping_volume(shown_, rest_->rings, rest_->parts.blend, rest_->volume, shown_repair_, false,
                                 shown_area_vectors_);
     return shown_;
 }

@@ -54,7 +54,8 @@ struct CpuRest {
 };
 
 // The fold repair after a step it is due after (FoldRepair::repair_due), with
-// both tests, and the volume keeper's Newton steps where it moved vertices: a
+// the affine test too when `affine_test` (FoldRepair::affine_test_due), and the
+// volume keeper's Newton steps where it moved vertices: a
 // repair moves vertices up to an edge, so the keeper's ∂V/∂x from the step's
 // midpoint no longer describes their rings, and each Newton step takes them
 // where they are. What those fold in turn (a needle's corner pushed across its
@@ -63,7 +64,7 @@ struct CpuRest {
 // vertex. Returns the volume drift the keeper undid.
 double repair_folds_keeping_volume(std::vector<Vec3>& x, const VertexRings& rings,
                                    const std::vector<std::uint32_t>& blend, const VolumeKeeper& keeper,
-                                   FoldRepair& repair, std::vector<Vec3>& area_vectors);
+                                   FoldRepair& repair, bool affine_test, std::vector<Vec3>& area_vectors);
 
 class CpuSteps final : public StepBackend {
 public:

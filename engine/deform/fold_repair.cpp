@@ -212,6 +212,11 @@ bool FoldRepair::repair_due(double from, double to) {
     return std::floor(b + 1e-9) > std::floor(a + 1e-9);
 }
 
+bool FoldRepair::affine_test_due(double from, double to) {
+    const double a = std::min(from, to) * kRepairTimes / 2, b = std::max(from, to) * kRepairTimes / 2;
+    return std::floor(b + 1e-9) > std::floor(a + 1e-9);
+}
+
 std::vector<double> FoldRepair::repair_times() {
     std::vector<double> times;
     for (int k = 1; k < kRepairTimes; ++k) times.push_back(double(k) / kRepairTimes);

@@ -49,8 +49,8 @@
 // saw a fold after another step, deeper or shallower, and placed its vertices
 // elsewhere (docs/method.md, "Repairs at fixed times").
 //
-// Each repair acts on two fold tests: the neighbour test above and a second,
-// exact for affine maps: deform/quality.h's reversed
+// Each repair acts on the neighbour test above, and every other one (at the
+// multiples of 1/5) on a second test, exact for affine maps: deform/quality.h's reversed
 // triangles (the affine map that best takes the triangle's corners' stars from
 // rest to now; folded when the triangle's image faces against the one that map
 // gives it), with each star's sums shared by its triangles. The neighbour test
@@ -108,6 +108,9 @@ public:
     static bool repair_due(double from, double to);
     // The multiples of 1/kRepairTimes inside (0, 1): where error-controlled steps land.
     static std::vector<double> repair_times();
+    // Whether the repair takes the affine test too after that step: at every
+    // other of its times, the multiples of 1/5.
+    static bool affine_test_due(double from, double to);
     // Repairs the folds of `positions` (the same order as at construction) as
     // described above, by the neighbour test and, when `affine_test`, the affine
     // one; returns the number of triangles still folded after the last round.

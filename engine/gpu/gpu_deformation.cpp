@@ -117,8 +117,9 @@ public:
         // Newton steps where it left the rings, again while the repair acts.
         repaired_here_ = FoldRepair::repair_due(time, time + h);
         if (!repaired_here_) return result;
+        const bool affine_test = FoldRepair::affine_test_due(time, time + h);
         for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
-            if (!repair_folds(cycle == 0, cycle == 0) || !keep_volume_) break;
+            if (!repair_folds(affine_test && cycle == 0, cycle == 0) || !keep_volume_) break;
             for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
                 if (k > 0) passes_.estimate_normals(At::positions);  // the area vectors where the last step left them
                 passes_.keep_volume();
@@ -138,7 +139,7 @@ public:
             if (!shown_repair_.active()) shown_repair_ = fold_repair_;
             std::vector<Vec3> work = gather_in_order(positions_, order_);
             std::vector<Vec3> area_vectors(blend_.size());
-            repair_folds_keeping_volume(work, rings_, blend_, shown_keeper_, shown_repair_, area_vectors);
+            repair_folds_keeping_volume(work, rings_, blend_, shown_keeper_, shown_repair_, false, area_vectors);
             shown_ = positions_;
             for (std::size_t i = 0; i < order_.size(); ++i) shown_[order_[i]] = work[i];
             shown_valid_ = true;
