@@ -49,9 +49,10 @@ const std::vector<Vec3>& checked_size(const std::vector<Vec3>& positions) {
 
 // The step of CpuSteps::step, pass for pass. With the paper's steps alone it
 // reads nothing back; the stream gauge's fit reads its samples back (two texels
-// each) once per step and fits on the CPU; the positions are read back, for the
-// CPU's fold repair, only after a step the repair is due after (every 1/10 in
-// time), and the fold test's one texel after each repair the keeper followed.
+// each) once per step and fits on the CPU; after a step the fold repair is due
+// after (every 1/10 in time) the fold test reads one texel, and the positions
+// are read back for the CPU's repair where it found folds or the affine test is
+// due (every 1/5).
 class GpuSteps final : public StepBackend {
 public:
     GpuSteps(const std::vector<Vec3>& positions, const VertexRings& rings, const Region& region, InnerMotion motion,
@@ -190,11 +191,11 @@ private:
         gauge_fit_ = GaugeFit(std::move(samples));
     }
 
-    // FoldRepair::repair on the CPU, on the positions read back: with both tests
-    // after a step the repair is due after, and by the neighbour test alone (once
-    // the fold pass has found folds) after the keeper's moves that followed it;
-    // the repaired positions go back up, with their rings' area vectors for the
-    // keeper. Returns whether it repaired.
+    // FoldRepair::repair on the CPU, on the positions read back, after a step the
+    // repair is due after: with the affine test too where it is due, otherwise
+    // (and after the keeper's moves that followed a repair) only once the fold
+    // pass has found folds; the repaired positions go back up, with their rings'
+    // area vectors for the keeper. Returns whether it repaired.
     bool repair_folds(bool affine_test, bool new_step) {
         if (!fold_repair_.active() || (!affine_test && passes_.count_folds() == 0)) return false;
         std::vector<Vec3> work = gather_in_order(positions(), order_);
