@@ -89,7 +89,6 @@ void CpuSteps::start_from_rest() {
     gradients_.assign(positions_.size(), Vec3(0.0));
     next_ = positions_;
     midpoints_ = positions_;
-    repaired_here_ = true;
     if (!rest_) return;
     if (rest_->keepers_built) fold_repair_ = rest_->fold_repair;
     if (rest_->estimated) {
@@ -157,13 +156,20 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     // (restoring it every few steps folded thin features); it is then part of
     // the step's map, and a step back undoes it as well.
     volume_restored_ += std::abs(rest_->volume.restore(positions_, area_vectors_));
-    // Then, at the repair's fixed times, the fold repair, which sees what the
-    // keeper's move folded too.
-    repaired_here_ = FoldRepair::repair_due(time, time + h);
-    if (repaired_here_)
-        volume_restored_ +=
-            repair_folds_keeping_volume(positions_, rest_->rings, rest_->parts.blend, rest_->volume, fold_repair_,
-                                        FoldRepair::affine_test_due(time, time + h), area_vectors_);
+    // Then the fold repair, which sees what the keeper's move folded too (a
+    // needle's corner pushed across its base). A repair moves vertices up to an
+    // edge: the keeper's ∂V/∂x from the step's midpoint no longer describes
+    // their rings, so it takes them where they are, before each of its Newton
+    // steps; what those fold in turn is repaired again, up to kRepairCycles times.
+    const bool affine_test = FoldRepair::affine_test_due(time, time + h);
+    for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
+        fold_repair_.repair(positions_, rest_->rings, affine_test && cycle == 0, cycle == 0);
+        if (!fold_repair_.acted() || !rest_->volume.active()) break;
+        for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
+            ring_area_vectors(positions_, rest_->rings, rest_->parts.blend, area_vectors_);
+            volume_restored_ += std::abs(rest_->volume.restore(positions_, area_vectors_));
+        }
+    }
     return result;
 }
 
@@ -196,42 +202,12 @@ double CpuSteps::estimate_error(const MotionSample& middle, double h, double spa
 const std::vector<Vec3>& CpuSteps::positions() const {
     if (!rest_) return positions_;
     if (!input_order_current_) {
-        const std::vector<Vec3>& shown = repaired_here_ ? positions_ : shown_positions();
         // The outer region does not move: input_order_ keeps its input positions.
         for (const auto* part : {&rest_->parts.inner, &rest_->parts.blend})
-            for (const std::uint32_t v : *part) input_order_[rest_->order[v]] = frame_.to_world(shown[v]);
+            for (const std::uint32_t v : *part) input_order_[rest_->order[v]] = frame_.to_world(positions_[v]);
         input_order_current_ = true;
     }
     return input_order_;
-}
-
-double repair_folds_keeping_volume(std::vector<Vec3>& x, const VertexRings& rings,
-                                   const std::vector<std::uint32_t>& blend, const VolumeKeeper& keeper,
-                                   FoldRepair& repair, bool affine_test, std::vector<Vec3>& area_vectors) {
-    double restored = 0.0;
-    for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
-        repair.repair(x, rings, affine_test && cycle == 0, cycle == 0);
-        if (!repair.acted() || !keeper.active()) break;
-        for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
-            ring_area_vectors(x, rings, blend, area_vectors);
-            restored += std::abs(keeper.restore(x, area_vectors));
-        }
-    }
-    return restored;
-}
-
-// Between the repair's times (FoldRepair::repair_due) the steps go on from
-// positions the repair has not seen; what is shown there is a copy repaired as
-// a step at one of those times would be (by the neighbour test: the affine one
-// runs at every other), so that no time shows a fold the repair would undo.
-const std::vector<Vec3>& CpuSteps::shown_positions() const {
-    shown_ = positions_;
-    if (!fold_repair_.active()) return shown_;
-    if (!shown_repair_.active()) shown_repair_ = fold_repair_;
-    shown_area_vectors_.resize(rest_->parts.blend.size());
-    repair_folds_keeping_volume(shown_, rest_->rings, rest_->parts.blend, rest_->volume, shown_repair_, false,
-                                shown_area_vectors_);
-    return shown_;
 }
 
 // One piece of the work per call (the keepers, then the estimates), so that
@@ -326,8 +302,7 @@ std::size_t CpuSteps::state_bytes() const {
     return capacity_bytes(positions_) + capacity_bytes(next_) + capacity_bytes(midpoints_) + capacity_bytes(normals_) +
            capacity_bytes(gradients_) + capacity_bytes(area_vectors_) + capacity_bytes(input_order_) +
            capacity_bytes(smoothing_.gradients) + capacity_bytes(smoothing_.next) + capacity_bytes(smoothing_.normals) +
-           fold_repair_.bytes(false) + capacity_bytes(shown_) + capacity_bytes(shown_area_vectors_) +
-           shown_repair_.bytes(false) + (rest_ ? rest_->bytes() : 0);
+           fold_repair_.bytes(false) + (rest_ ? rest_->bytes() : 0);
 }
 
 // Throws NumericalError at the first non-finite position among those the step moved.

@@ -53,19 +53,6 @@ struct CpuRest {
     std::size_t bytes() const;
 };
 
-// The fold repair after a step it is due after (FoldRepair::repair_due), with
-// the affine test too when `affine_test` (FoldRepair::affine_test_due), and the
-// volume keeper's Newton steps where it moved vertices: a
-// repair moves vertices up to an edge, so the keeper's ∂V/∂x from the step's
-// midpoint no longer describes their rings, and each Newton step takes them
-// where they are. What those fold in turn (a needle's corner pushed across its
-// base) is repaired again by the neighbour test, up to kRepairCycles times. `x`,
-// `rings` and `blend` in one order; `area_vectors` is scratch, one per blend
-// vertex. Returns the volume drift the keeper undid.
-double repair_folds_keeping_volume(std::vector<Vec3>& x, const VertexRings& rings,
-                                   const std::vector<std::uint32_t>& blend, const VolumeKeeper& keeper,
-                                   FoldRepair& repair, bool affine_test, std::vector<Vec3>& area_vectors);
-
 class CpuSteps final : public StepBackend {
 public:
     // Throws InputError when sizes disagree.
@@ -80,7 +67,6 @@ public:
     StepResult step(double time, double h, int step, double max_error) override;
     bool estimates_error() const override { return !region_.sphere_tool && options_.gradients_at_midpoint; }
     std::vector<double> motion_joins() const override { return motion_.joins(); }
-    bool repairs_folds() const override { return options_.repair_folds && !region_.sphere_tool; }
     bool prepare_first_step() override;
     const std::vector<Vec3>& positions() const override;
     FoldRepairStats fold_repairs() const override;
@@ -95,7 +81,6 @@ public:
 
 private:
     void check_finite(const std::vector<Vec3>& candidate, int step, double time) const;
-    const std::vector<Vec3>& shown_positions() const;
     void estimate_surface_gradients(const std::vector<Vec3>& at);
     void estimate_at_start(double time);
     void start_from_rest();
@@ -130,12 +115,6 @@ private:
     std::vector<Vec3> sample_gradients_;        // ∇r at the gauge's samples before this step's estimate
     std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
     FoldRepair fold_repair_;
-    // Whether positions_ are as the repair left them: the last step was one the
-    // repair is due after (or there was none). Otherwise positions() shows a
-    // repaired copy, shown_, which the steps never see (FoldRepair::repair_due).
-    bool repaired_here_ = true;
-    mutable FoldRepair shown_repair_;  // fold_repair_'s twin, whose stats no one reads
-    mutable std::vector<Vec3> shown_, shown_area_vectors_;
     double volume_restored_ = 0.0;  // Σ |drift undone|
 };
 

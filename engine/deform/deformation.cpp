@@ -53,14 +53,6 @@ Deformation::Deformation(std::unique_ptr<StepBackend> backend, DeformationOption
     check_options(options_);
     controlled_ = options_.tolerance > 0.0 && backend_->estimates_error();
     joins_ = backend_->motion_joins();
-    // Error-controlled steps land on the fold repair's times too, where a run of
-    // fixed steps repairs (FoldRepair::repair_due), so that both repair the same states.
-    if (controlled_ && backend_->repairs_folds()) {
-        const std::vector<double> repairs = FoldRepair::repair_times();
-        joins_.insert(joins_.end(), repairs.begin(), repairs.end());
-        std::sort(joins_.begin(), joins_.end());
-        joins_.erase(std::unique(joins_.begin(), joins_.end()), joins_.end());
-    }
 }
 
 Deformation::Deformation(std::vector<Vec3> positions, VertexRings rings, Region region, InnerMotion motion,

@@ -156,9 +156,6 @@ public:
     virtual bool prepare_first_step() { return false; }
     // The positions at the last step's end, in the input's vertex order.
     virtual const std::vector<Vec3>& positions() const = 0;
-    // Whether step() repairs folds at FoldRepair::repair_due's times: error-controlled
-    // steps then land on those times.
-    virtual bool repairs_folds() const { return false; }
     // Whether step() returns before its work is done (the GPU's command queue):
     // then steps are timed over finish(), and positions are checked when read.
     virtual bool asynchronous() const { return false; }

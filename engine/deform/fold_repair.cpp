@@ -22,6 +22,7 @@ constexpr int kHarmonicIterations = 200;  // Gauss–Seidel iterations of a patc
 constexpr double kRegularisation = 1.0;   // of the affine fit toward the rotation, per mean squared radius
 constexpr int kGrowth = 3;                // rings around the folded triangles' corners, at most
 constexpr double kReach = 1.0;            // the most a vertex moves in a step, in its ring's mean edges
+constexpr double kAffineTests = 5.0;      // affine fold tests per unit time
 constexpr double kStarWeight = 1e-3;      // of the star fit's normal term, per squared radius
 constexpr int kSearchPasses = 4;          // passes of the vertex search over the folded triangles' corners, at most
 constexpr double kSearchMargin = 0.05;    // a nearly folded entry: n·Σm below this share of its value at rest
@@ -207,20 +208,9 @@ void FoldRepair::prepare_affine_test(const VertexRings& rings) {
     });
 }
 
-bool FoldRepair::repair_due(double from, double to) {
-    const double a = std::min(from, to) * kRepairTimes, b = std::max(from, to) * kRepairTimes;
-    return std::floor(b + 1e-9) > std::floor(a + 1e-9);
-}
-
 bool FoldRepair::affine_test_due(double from, double to) {
-    const double a = std::min(from, to) * kRepairTimes / 2, b = std::max(from, to) * kRepairTimes / 2;
+    const double a = std::min(from, to) * kAffineTests, b = std::max(from, to) * kAffineTests;
     return std::floor(b + 1e-9) > std::floor(a + 1e-9);
-}
-
-std::vector<double> FoldRepair::repair_times() {
-    std::vector<double> times;
-    for (int k = 1; k < kRepairTimes; ++k) times.push_back(double(k) / kRepairTimes);
-    return times;
 }
 
 std::vector<std::uint32_t> FoldRepair::affine_folded(const std::vector<Vec3>& x, const VertexRings& rings) {

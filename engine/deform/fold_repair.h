@@ -3,9 +3,9 @@
 // smooth field; the engine samples it at the vertices (each with its own ∇r from
 // its ring), and on scenes nobody tuned the sampled map can still fold a
 // triangle where it varies by order one across a few rings (docs/method.md,
-// "Keeping the promise"). At each tenth of the run (below), the blend vertices of
-// each triangle that turned to face against its edge neighbours (deform/quality.h's
-// measure) are placed again by the map a smooth field makes there to first order:
+// "Keeping the promise"). After every step, the blend vertices of each triangle
+// that turned to face against its edge neighbours (deform/quality.h's measure)
+// are placed again by the map a smooth field makes there to first order:
 //
 // 1. rounds 1–10: each vertex moves halfway, three times, toward the image of its
 //    rest position under the affine map that best takes its ring's rest positions
@@ -39,18 +39,13 @@
 // kRepairCycles times (deform/cpu_steps.cpp).
 //
 // Only blend vertices move: the outer region stays exactly put and the inner
-// region rigid. The repaired vertices leave their path lines by the shifts the
-// stats report (docs/method.md, "The fold repair").
+// region rigid. It acts only after a step that folded something (by a
+// test that ran after it), and the repaired vertices leave their path lines by the
+// shifts the stats report (docs/method.md, "The fold repair").
 //
-// It acts at fixed times, not after every step: after each step that passes or
-// ends on a multiple of 1/10 in time (every 25th of the default 250 steps), and
-// error-controlled steps land on those times (deform/deformation.cpp). A repair
-// after every step made the result depend on the steps: a run of other lengths
-// saw a fold after another step, deeper or shallower, and placed its vertices
-// elsewhere (docs/method.md, "Repairs at fixed times").
-//
-// Each repair acts on the neighbour test above, and every other one (at the
-// multiples of 1/5) on a second test, exact for affine maps: deform/quality.h's reversed
+// After each step that passes a multiple of 1/5 in time (every 50th of the
+// default 250 steps; every step of 5 or fewer) the repair also acts on a
+// second fold test, exact for affine maps: deform/quality.h's reversed
 // triangles (the affine map that best takes the triangle's corners' stars from
 // rest to now; folded when the triangle's image faces against the one that map
 // gives it), with each star's sums shared by its triangles. The neighbour test
@@ -99,17 +94,10 @@ public:
                std::vector<std::uint32_t> input_index = {});
 
     bool active() const { return !at_rest_->check.empty(); }
-    // Repairs per unit time, at its multiples.
-    static constexpr int kRepairTimes = 10;
-    // Whether the repair acts after the step from time `from` to `to`: when it
-    // passes or ends on a multiple of 1/kRepairTimes (either way), so that the
-    // repair follows how far the deformation went, not how many steps it took,
-    // and scrubbing back and forth repairs as a direct run does.
-    static bool repair_due(double from, double to);
-    // The multiples of 1/kRepairTimes inside (0, 1): where error-controlled steps land.
-    static std::vector<double> repair_times();
-    // Whether the repair takes the affine test too after that step: at every
-    // other of its times, the multiples of 1/5.
+    // Whether the affine test runs after the step from time `from` to `to`: when
+    // it passes a multiple of 1/5 (either way), so that the test follows how far
+    // the deformation went, not how many steps it took, and scrubbing back and
+    // forth repairs as a direct run does.
     static bool affine_test_due(double from, double to);
     // Repairs the folds of `positions` (the same order as at construction) as
     // described above, by the neighbour test and, when `affine_test`, the affine

@@ -5,7 +5,6 @@
 #include <string>
 
 #include "base/error.h"
-#include "deform/cpu_steps.h"
 #include "deform/step_error.h"
 #include "deform/volume_keeper.h"
 #include "field/stream_gauge.h"
@@ -49,10 +48,9 @@ const std::vector<Vec3>& checked_size(const std::vector<Vec3>& positions) {
 
 // The step of CpuSteps::step, pass for pass. With the paper's steps alone it
 // reads nothing back; the stream gauge's fit reads its samples back (two texels
-// each) once per step and fits on the CPU; after a step the fold repair is due
-// after (every 1/10 in time) the fold test reads one texel, and the positions
-// are read back for the CPU's repair where it found folds or the affine test is
-// due (every 1/5).
+// each) once per step and fits on the CPU, and the fold test reads one texel per
+// step; the positions are read back, for the CPU's repair, only after a step
+// that folded or one the repair's affine test is due after (every 1/5 in time).
 class GpuSteps final : public StepBackend {
 public:
     GpuSteps(const std::vector<Vec3>& positions, const VertexRings& rings, const Region& region, InnerMotion motion,
@@ -76,7 +74,6 @@ public:
     // estimates its error as the CPU's does (CpuSteps::estimate_error).
     bool estimates_error() const override { return options_.fit_stream_gauge && options_.gradients_at_midpoint; }
     std::vector<double> motion_joins() const override { return motion_.joins(); }
-    bool repairs_folds() const override { return options_.repair_folds; }
 
     StepResult step(double time, double h, int, double max_error) override {
         StepResult result;
@@ -116,8 +113,6 @@ public:
         positions_valid_ = false;
         // CpuSteps::step's order: the keeper, then the repair and the keeper's
         // Newton steps where it left the rings, again while the repair acts.
-        repaired_here_ = FoldRepair::repair_due(time, time + h);
-        if (!repaired_here_) return result;
         const bool affine_test = FoldRepair::affine_test_due(time, time + h);
         for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
             if (!repair_folds(affine_test && cycle == 0, cycle == 0) || !keep_volume_) break;
@@ -130,22 +125,10 @@ public:
         return result;
     }
 
-    // Between the repair's times, a copy repaired as CpuSteps::shown_positions
-    // repairs it (the steps go on from the positions on the GPU).
     const std::vector<Vec3>& positions() const override {
-        if (!positions_valid_) positions_ = passes_.read_positions(), shown_valid_ = false;
+        if (!positions_valid_) positions_ = passes_.read_positions();
         positions_valid_ = true;
-        if (repaired_here_ || !fold_repair_.active()) return positions_;
-        if (!shown_valid_) {
-            if (!shown_repair_.active()) shown_repair_ = fold_repair_;
-            std::vector<Vec3> work = gather_in_order(positions_, order_);
-            std::vector<Vec3> area_vectors(blend_.size());
-            repair_folds_keeping_volume(work, rings_, blend_, shown_keeper_, shown_repair_, false, area_vectors);
-            shown_ = positions_;
-            for (std::size_t i = 0; i < order_.size(); ++i) shown_[order_[i]] = work[i];
-            shown_valid_ = true;
-        }
-        return shown_;
+        return positions_;
     }
 
 private:
@@ -169,10 +152,6 @@ private:
             passes_.set_fold_checks(fold_repair_.checks(), order_);
         }
         keep_volume_ = options_.keep_volume && VolumeKeeper(positions, s, rings, blend_vertices(s)).active();
-        if (options_.repair_folds && keep_volume_) {  // the keeper of the positions shown between the repair's times
-            blend_ = blend_vertices(s_);
-            shown_keeper_ = VolumeKeeper(gather_in_order(positions, order_), s_, rings_, blend_);
-        }
         if (keep_volume_) passes_.measure_rest_volume(bounding_box(positions).centre());
     }
 
@@ -191,11 +170,10 @@ private:
         gauge_fit_ = GaugeFit(std::move(samples));
     }
 
-    // FoldRepair::repair on the CPU, on the positions read back, after a step the
-    // repair is due after: with the affine test too where it is due, otherwise
-    // (and after the keeper's moves that followed a repair) only once the fold
-    // pass has found folds; the repaired positions go back up, with their rings'
-    // area vectors for the keeper. Returns whether it repaired.
+    // FoldRepair::repair on the CPU after a step the fold pass found folds in, or
+    // one the affine test is due after (it runs on the CPU, on the positions read
+    // back); the repaired positions go back up, with their rings' area vectors
+    // for the keeper. Returns whether it repaired.
     bool repair_folds(bool affine_test, bool new_step) {
         if (!fold_repair_.active() || (!affine_test && passes_.count_folds() == 0)) return false;
         std::vector<Vec3> work = gather_in_order(positions(), order_);
@@ -215,12 +193,6 @@ private:
     double size_ = 0.0;           // centred_diameter at rest
     mutable std::vector<Vec3> positions_;
     mutable bool positions_valid_ = false;
-    bool repaired_here_ = true;        // the last step was one the repair is due after (or there was none)
-    mutable FoldRepair shown_repair_;  // fold_repair_'s twin, for positions() between the repair's times
-    mutable std::vector<Vec3> shown_;
-    mutable bool shown_valid_ = false;
-    std::vector<std::uint32_t> blend_;  // in the work order
-    VolumeKeeper shown_keeper_;
     // The default scheme's state; order_, s_ and rings_ in the CPU's work order.
     std::vector<std::uint32_t> order_;
     std::vector<double> s_, sample_s_;
