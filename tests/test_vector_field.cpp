@@ -241,13 +241,43 @@ double gauge_objective(const MotionSample& motion, const StreamGauge& g, const s
     return sum;
 }
 
+// The gradients of the monomials of degree 1 to 3 as StreamGauge entries: per
+// component, the coefficient of one of its quadratic monomials (1, x, y, z, x²,
+// y², z², xy, xz, yz).
+struct GaugeEntry {
+    int component = 0, monomial = 0;
+    double factor = 0.0;  // 0: unused
+};
+constexpr GaugeEntry kCubicGradients[19][3] = {
+    {{0, 0, 1}},                        // ∇x = (1, 0, 0)
+    {{1, 0, 1}},                        // ∇y
+    {{2, 0, 1}},                        // ∇z
+    {{0, 1, 1}},                        // ∇(x²/2) = (x, 0, 0)
+    {{1, 2, 1}},                        // ∇(y²/2)
+    {{2, 3, 1}},                        // ∇(z²/2)
+    {{0, 2, 1}, {1, 1, 1}},             // ∇(xy) = (y, x, 0)
+    {{0, 3, 1}, {2, 1, 1}},             // ∇(xz) = (z, 0, x)
+    {{1, 3, 1}, {2, 2, 1}},             // ∇(yz) = (0, z, y)
+    {{0, 4, 1}},                        // ∇(x³/3) = (x², 0, 0)
+    {{1, 5, 1}},                        // ∇(y³/3)
+    {{2, 6, 1}},                        // ∇(z³/3)
+    {{0, 7, 2}, {1, 4, 1}},             // ∇(x²y) = (2xy, x², 0)
+    {{0, 8, 2}, {2, 4, 1}},             // ∇(x²z) = (2xz, 0, x²)
+    {{0, 5, 1}, {1, 7, 2}},             // ∇(y²x) = (y², 2xy, 0)
+    {{1, 9, 2}, {2, 5, 1}},             // ∇(y²z) = (0, 2yz, y²)
+    {{0, 6, 1}, {2, 8, 2}},             // ∇(z²x) = (z², 0, 2xz)
+    {{1, 6, 1}, {2, 9, 2}},             // ∇(z²y) = (0, z², 2yz)
+    {{0, 9, 1}, {1, 8, 1}, {2, 7, 1}},  // ∇(xyz) = (yz, xz, xy)
+};
+
 }  // namespace
 
 TEST_CASE("the fitted gauge minimises its objective over the cubic gauges", "[field]") {
     // Samples of a blend band about a curved motion, away from the origin; the
     // fitted gauge must beat the paper's (zero) gauge and every small change of
-    // it along a cubic φ's gradient (a constant, ∇(x y), ∇(x³/3), ∇(x y z), in the
-    // fit's coordinates). It would not if its right-hand side were wrong.
+    // it along the gradient of each of the 19 monomials of a cubic φ (in the
+    // fit's coordinates). It would not if its normal matrix or its right-hand
+    // side were wrong in any term.
     std::mt19937 rng(9);
     std::uniform_real_distribution<double> coord(-1.0, 1.0);
     for (auto mode : {InnerMotionMode::Rotation, InnerMotionMode::Translation}) {
@@ -263,13 +293,11 @@ TEST_CASE("the fitted gauge minimises its objective over the cubic gauges", "[fi
             const StreamGauge best = fit.gauge_for(m);
             const double at_best = gauge_objective(m, best, samples);
             CHECK(at_best < gauge_objective(m, StreamGauge{}, samples));
-            for (int direction = 0; direction < 4; ++direction)
-                for (double step : {-1e-2, 1e-2}) {
+            for (std::size_t direction = 0; direction < std::size(kCubicGradients); ++direction)
+                for (double step : {-1e-3, 1e-3}) {
                     StreamGauge g = best;
-                    if (direction == 0) g.q[0][0] += step;                     // ∇(x) = (1, 0, 0)
-                    if (direction == 1) g.q[0][2] += step, g.q[1][1] += step;  // ∇(x y) = (y, x, 0)
-                    if (direction == 2) g.q[0][4] += step;                     // ∇(x³/3) = (x², 0, 0)
-                    if (direction == 3) g.q[0][9] += step, g.q[1][8] += step, g.q[2][7] += step;  // ∇(x y z)
+                    for (const GaugeEntry& e : kCubicGradients[direction])
+                        if (e.factor != 0.0) g.q[e.component][e.monomial] += e.factor * step;
                     INFO("t " << t << ", direction " << direction << ", step " << step);
                     CHECK(gauge_objective(m, g, samples) > at_best);
                 }
