@@ -226,12 +226,11 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
     const auto pack = [](const Vec3& v) { return Float4{float(v.x), float(v.y), float(v.z), 0.0f}; };
     scratch.gradients.resize(n);
     scratch.next.resize(n);
-    scratch.normals.resize(n);
+    scratch.normals.resize(tangent ? n : 0);  // only the tangent smoothing takes the normals
     parallel_for(n, [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) {
-            scratch.gradients[i] = pack(gradients[parts.blend[i]]);
-            scratch.normals[i] = pack(normals[parts.blend[i]]);
-        }
+        for (std::size_t i = first; i < last; ++i) scratch.gradients[i] = pack(gradients[parts.blend[i]]);
+        if (tangent)
+            for (std::size_t i = first; i < last; ++i) scratch.normals[i] = pack(normals[parts.blend[i]]);
     });
     const float w = static_cast<float>(weight);
     for (int step = 0; step < steps; ++step) {
@@ -247,9 +246,12 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
                     for (std::uint32_t k = begin; k < end; ++k) sum += scratch.gradients[parts.blend_rings[k]];
                     g += (w / float(end - begin)) * sum - w * g;
                 }
-                const Float4 normal = scratch.normals[i];
-                const Float4 product = g * normal;
-                scratch.next[i] = tangent ? g - (product[0] + product[1] + product[2]) * normal : g;
+                if (tangent) {
+                    const Float4 normal = scratch.normals[i];
+                    const Float4 product = g * normal;
+                    g -= (product[0] + product[1] + product[2]) * normal;
+                }
+                scratch.next[i] = g;
             }
         });
         scratch.gradients.swap(scratch.next);
