@@ -37,13 +37,24 @@ GLFWwindow* open_window(const AppOptions& options) {
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-    glfwWindowHint(GLFW_SAMPLES, 4);
-    GLFWwindow* window = glfwCreateWindow(options.width, options.height, "vfsd", nullptr, nullptr);
-    if (!window) {
-        glfwTerminate();
-        throw std::runtime_error("cannot open a window with an OpenGL 3.3 core context");
+    const auto create = [&](int samples) {
+        glfwWindowHint(GLFW_SAMPLES, samples);
+        GLFWwindow* window = glfwCreateWindow(options.width, options.height, "vfsd", nullptr, nullptr);
+        if (!window) {
+            glfwTerminate();
+            throw std::runtime_error("cannot open a window with an OpenGL 3.3 core context");
+        }
+        glfwMakeContextCurrent(window);
+        return window;
+    };
+    // Multisampled unless the renderer, known once a context exists, rasterises
+    // in software (gpu::multisample_view): then the window is opened again without.
+    GLFWwindow* window = create(4);
+    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    if (!gpu::multisample_view(renderer ? renderer : "", options.antialias)) {
+        glfwDestroyWindow(window);
+        window = create(0);
     }
-    glfwMakeContextCurrent(window);
     glfwSwapInterval(options.script.empty() ? 1 : 0);
     return window;
 }
@@ -71,7 +82,10 @@ App::App(const AppOptions& options) : options_(options), window_(open_window(opt
     editor_options.autosave_directory = editor::default_autosave_directory();
     editor_options.force_cpu = options.backend == "cpu";
     editor_ = std::make_unique<editor::Editor>(*this, gpu, reason, editor_options);
-    log(std::string("GL: ") + context.renderer() + (gpu ? " (GPU path)" : " (CPU path: " + reason + ")"));
+    GLint samples = 0;
+    glGetIntegerv(GL_SAMPLES, &samples);
+    log(std::string("GL: ") + context.renderer() + (gpu ? " (GPU path)" : " (CPU path: " + reason + ")") +
+        (samples > 1 ? ", multisampled" : ", not multisampled"));
 
     // The starting document: the mesh or scene asked for, else the default scene.
     const std::string first = !options.mesh.empty() ? options.mesh : options.scene;

@@ -26,6 +26,7 @@ struct AppOptions {
     std::string script;  // --script FILE
     std::string mesh;    // MESH
     std::string backend = "auto";  // --backend auto|cpu
+    std::string antialias = "auto";  // --antialias auto|on|off: multisample the view (gpu::multisample_view)
     bool exit_after_script = false;
     int width = 1280, height = 800;
 };

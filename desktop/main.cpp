@@ -1,5 +1,5 @@
 // vfsd-desktop [--scene FILE] [--script FILE] [--exit-after-script] [--backend auto|cpu|gpu]
-//              [--size WxH] [MESH]
+//              [--antialias auto|on|off] [--size WxH] [MESH]
 //
 // The desktop editor: opens MESH (a mesh file or builtin:NAME) or the scene FILE,
 // or the built-in default scene, and runs the script's actions (docs/desktop.md).
@@ -16,9 +16,10 @@ namespace {
 
 void usage(std::FILE* out) {
     std::fputs("usage: vfsd-desktop [--scene FILE] [--script FILE] [--exit-after-script] [--backend auto|cpu|gpu]\n"
-               "                    [--size WxH] [MESH]\n"
+               "                    [--antialias auto|on|off] [--size WxH] [MESH]\n"
                "Opens MESH (.obj .off .ply .stl .gltf .glb or builtin:NAME), the scene FILE, or the default\n"
                "scene; F1 in the window lists the shortcuts. docs/desktop.md describes scripts.\n"
+               "--antialias: multisample the view (auto: unless the renderer is a software one).\n"
                "The session is autosaved to $VFSD_AUTOSAVE_DIR, else $XDG_STATE_HOME/vfsd/autosave,\n"
                "else ~/.local/state/vfsd/autosave; a start without a file offers to restore it.\n",
                out);
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
         else if (arg == "--script") options.script = value("--script");
         else if (arg == "--exit-after-script") options.exit_after_script = true;
         else if (arg == "--backend") options.backend = value("--backend");
+        else if (arg == "--antialias") options.antialias = value("--antialias");
         else if (arg == "--size") {
             if (std::sscanf(value("--size").c_str(), "%dx%d", &options.width, &options.height) != 2 ||
                 options.width < 64 || options.height < 64) {
@@ -60,6 +62,10 @@ int main(int argc, char** argv) {
     }
     if (options.backend != "auto" && options.backend != "cpu" && options.backend != "gpu") {
         std::fprintf(stderr, "vfsd-desktop: --backend must be auto, cpu or gpu\n");
+        return 2;
+    }
+    if (options.antialias != "auto" && options.antialias != "on" && options.antialias != "off") {
+        std::fprintf(stderr, "vfsd-desktop: --antialias must be auto, on or off\n");
         return 2;
     }
     try {

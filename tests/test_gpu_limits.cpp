@@ -84,7 +84,7 @@ TEST_CASE("the GPU path refuses meshes too small or too large for float textures
     }
 }
 
-TEST_CASE("both shells pick the CPU path on a software renderer unless asked for the GPU, and say why",
+TEST_CASE("both shells run the CPU path on a software renderer unless asked, say why, and do not multisample there",
           "[gpu][robustness][editor]") {
     // No GL needed: the rule reads the capabilities only.
     gpu::Capabilities caps = small_gpu(8192);
@@ -95,6 +95,8 @@ TEST_CASE("both shells pick the CPU path on a software renderer unless asked for
         CHECK(gpu::cpu_path_reason(caps, "auto").empty());
         CHECK(gpu::cpu_path_reason(caps, "gpu").empty());
         CHECK(!gpu::cpu_path_reason(caps, "cpu").empty());
+        CHECK(gpu::multisample_view(hardware));
+        CHECK(!gpu::multisample_view(hardware, "off"));
     }
     const std::pair<const char*, const char*> software[] = {
         {"ANGLE (Google, Vulkan 1.3.0 (SwiftShader Device (Subzero)), SwiftShader driver)", "SwiftShader"},
@@ -107,6 +109,8 @@ TEST_CASE("both shells pick the CPU path on a software renderer unless asked for
         CHECK(gpu::software_renderer(renderer) == name);
         CHECK_THAT(gpu::cpu_path_reason(caps, "auto"), Catch::Contains(std::string("software renderer (") + name + ")"));
         CHECK(gpu::cpu_path_reason(caps, "gpu").empty());  // asked for: the GPU path anyway
+        CHECK(!gpu::multisample_view(renderer));           // each sample shaded on the CPU
+        CHECK(gpu::multisample_view(renderer, "on"));
     }
     caps.float_render_targets = false;  // what no GPU path can do without, asked for or not
     for (const char* requested : {"auto", "gpu"})

@@ -48,6 +48,26 @@ EM_JS(char*, vfsd_page_options, (), {
     stringToUTF8(text, out, size);
     return out;
 });
+// The renderer's name, from a context of a canvas of its own (lost again at once):
+// it decides the view canvas's own context attributes, so must come first.
+EM_JS(char*, vfsd_page_probe_renderer, (), {
+    let name = '';
+    try {
+        const gl = document.createElement('canvas').getContext('webgl2');
+        if (gl) {
+            const info = gl.getExtension('WEBGL_debug_renderer_info');
+            name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER) || '');
+            const lose = gl.getExtension('WEBGL_lose_context');
+            if (lose) lose.loseContext();
+        }
+    } catch (e) {
+        name = '';
+    }
+    const size = lengthBytesUTF8(name) + 1;
+    const out = _malloc(size);
+    stringToUTF8(name, out, size);
+    return out;
+});
 // Returns whether the page wants another frame (it waits on one).
 EM_JS(int, vfsd_page_frame, (const char* overlay), {
     return Module.vfsdFrame && Module.vfsdFrame(UTF8ToString(overlay)) ? 1 : 0;
@@ -145,7 +165,7 @@ public:
 
 private:
     void init_gl();
-    editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_}; }
+    editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_, multisampled_}; }
     void pause();
     void resume();
     void autosave_due();
@@ -165,6 +185,8 @@ private:
     EMSCRIPTEN_WEBGL_CONTEXT_HANDLE gl_ = 0;
     bool lost_ = false;
     bool allow_float_ = true;
+    std::string antialias_ = "auto";  // ?antialias=on|off: multisample the view or not (gpu::multisample_view)
+    bool multisampled_ = false;
     std::string backend_ = "auto";
     std::string gl_renderer_;
     editor::DeformationFactory gpu_;
@@ -177,6 +199,7 @@ private:
 
 App::App(const json& options) {
     allow_float_ = options.value("float", true);
+    antialias_ = options.value("antialias", std::string("auto"));
     backend_ = options.value("backend", std::string("auto"));
     std::filesystem::create_directories(kFiles);
     init_gl();
@@ -184,7 +207,8 @@ App::App(const json& options) {
     editor_options.autosave_directory = kAutosave;
     editor_options.autosave_seconds = kAutosaveSeconds;
     editor_ = std::make_unique<editor::Editor>(*this, gpu_, gpu_reason_, editor_options);
-    log("WebGL2: " + gl_renderer_ + (gpu_ ? " (GPU path)" : " (CPU path: " + gpu_reason_ + ")"));
+    log("WebGL2: " + gl_renderer_ + (gpu_ ? " (GPU path)" : " (CPU path: " + gpu_reason_ + ")") +
+        (multisampled_ ? ", multisampled" : ", not multisampled"));
     editor_->open_default(kDefaultScene, true);
 }
 
@@ -194,7 +218,11 @@ void App::init_gl() {
     attrs.majorVersion = 2;
     attrs.minorVersion = 0;
     attrs.alpha = false;
-    attrs.antialias = true;
+    if (!gl_) {
+        char* probe = vfsd_page_probe_renderer();
+        attrs.antialias = multisampled_ = gpu::multisample_view(probe, antialias_);
+        std::free(probe);
+    }
     attrs.preserveDrawingBuffer = true;  // the canvas can be read back (screenshots, tests)
     attrs.enableExtensionsByDefault = false;
     if (!gl_) gl_ = emscripten_webgl_create_context(kCanvas, &attrs);

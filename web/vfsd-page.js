@@ -60,7 +60,8 @@
 
   const Module = window.Module = {
     canvas: glCanvas,
-    vfsdOptions: { float: params.get('float') !== '0', backend: params.get('backend') || 'auto' },
+    vfsdOptions: { float: params.get('float') !== '0', backend: params.get('backend') || 'auto',
+                   antialias: params.get('antialias') || 'auto' },
     print: (text) => console.log(text),
     printErr: (text) => console.warn(text),
     vfsdFrame: onFrame,

@@ -142,6 +142,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
     return {{"stats", stats_json(editor)},
             {"backend_reason", s.stats().backend_reason},
             {"renderer", page.renderer},
+            {"multisampled", page.multisampled},
             {"target_time", s.target_time()},
             {"moving", s.moving()},
             {"holding", s.holding_result()},  // the last result on show while an edit's run catches up

@@ -17,6 +17,7 @@ struct PageInfo {
     std::string files;     // the folder of uploaded meshes and scenes, and of exports
     std::string renderer;  // the WebGL renderer's name
     bool context_lost = false;
+    bool multisampled = true;  // the view's canvas (gpu::multisample_view)
 };
 
 // Everything the panel shows: stats, tool settings, control points, undo / redo,

@@ -63,6 +63,11 @@ std::string software_renderer(const std::string& renderer) {
     return "";
 }
 
+bool multisample_view(const std::string& renderer, const std::string& requested) {
+    if (requested == "on" || requested == "off") return requested == "on";
+    return software_renderer(renderer).empty();
+}
+
 std::string cpu_path_reason(const Capabilities& caps, const std::string& requested) {
     if (requested == "cpu") return "CPU chosen (backend cpu)";
     try {

@@ -27,6 +27,13 @@ void require_gpu_support(const Capabilities& caps, std::size_t vertex_count = 0)
 // the matched name as `renderer` writes it ("SwiftShader"), or "" for hardware.
 std::string software_renderer(const std::string& renderer);
 
+// Whether a view drawn by `renderer` should be multisampled. A software
+// rasteriser shades every sample on the CPU: SwiftShader drew the page's frame
+// of the 41k sphere in about 100 ms with 4x multisampling and 50 ms without
+// (docs/web.md, "Edit to final shape"), time the steps on the same cores lose.
+// `requested`: "auto" (all but a software renderer), "on" or "off".
+bool multisample_view(const std::string& renderer, const std::string& requested = "auto");
+
 // Why an editor in this context runs the CPU path, or "" for the GPU path.
 // `requested`: "auto" (the GPU where it can, unless it renders in software),
 // "gpu" (wherever it can) or "cpu". The one rule both shells follow.

@@ -1,6 +1,7 @@
 // Fast where it runs, quiet when idle. On a software WebGL renderer (SwiftShader,
 // what headless Chromium gives) the page runs the CPU path and says why, unless
-// ?backend=gpu asks for the GPU path. Once the deformation has stopped the page
+// ?backend=gpu asks for the GPU path; there it draws without multisampling (each
+// sample would be shaded on the CPU) unless ?antialias=on asks. Once the deformation has stopped the page
 // draws no frames; the pointer over the view draws again, then it stops again.
 import { openPage, check } from './harness.mjs';
 
@@ -8,6 +9,8 @@ const software = /swiftshader|llvmpipe|software|softpipe/i;
 const { page, errors, close } = await openPage();
 const api = (fn, arg) => page.evaluate(fn, arg);
 // Frames drawn over `ms` of wall time.
+// The canvas's own WebGL context attribute (getContext hands back the page's context).
+const antialiased = (p) => p.evaluate(() => document.getElementById('vfsd-canvas').getContext('webgl2').getContextAttributes().antialias);
 const framesOver = async (ms) => {
   const f0 = await api(() => window.vfsd.framesDrawn());
   await page.waitForTimeout(ms);
@@ -22,7 +25,9 @@ try {
     check(s.stats.backend === 'cpu', `a software renderer runs the CPU path (backend ${s.stats.backend})`);
     check(await page.locator('#backend-note').isVisible() && /software renderer/.test(note) && software.test(note),
           `the page says why: "${note}"`);
+    check(!s.multisampled && !(await antialiased(page)), 'a software renderer draws without multisampling');
   } else {
+    check(s.multisampled && (await antialiased(page)), 'a hardware renderer draws multisampled');
     check(!/software/.test(note), `a hardware renderer is not called software: "${note}"`);
   }
 
@@ -50,10 +55,12 @@ try {
 }
 
 {
-  // ?backend=gpu: the GPU path even on a software renderer, with the default scheme.
-  const { page: gpuPage, errors: gpuErrors, close: gpuClose } = await openPage('?backend=gpu');
+  // ?backend=gpu: the GPU path even on a software renderer, with the default scheme;
+  // ?antialias=on: multisampled whatever the renderer.
+  const { page: gpuPage, errors: gpuErrors, close: gpuClose } = await openPage('?backend=gpu&antialias=on');
   try {
     const s = await gpuPage.evaluate(() => window.vfsd.state());
+    check(s.multisampled && (await antialiased(gpuPage)), '?antialias=on draws multisampled');
     const c = s.control_points, d = s.diagonal;
     await gpuPage.evaluate((scene) => window.vfsd.loadScene(scene), {
       region: { kind: 'geodesic', seed: c[0], g_min: 0.1 * d, g_max: 0.4 * d }, curve: { bezier: c },

@@ -7,7 +7,7 @@
 // For each, the time from the edit to t = 1 reached, the steps, the main thread's
 // longest task and the longest gap between drawn frames meanwhile, on the CPU path
 // (wasm, one thread) and the GPU path (WebGL2; SwiftShader here, a software
-// renderer). With VFSD_NATIVE set to a native `vfsd`, the page's edited scene is
+// renderer); and first what a drawn frame costs there (the view turned). With VFSD_NATIVE set to a native `vfsd`, the page's edited scene is
 // also timed natively by `vfsd bench --latency --scene` (its curve edit or region
 // edit: the mesh open, the region computed for a region edit, the motion built,
 // integrated to t = 1; a curve edit from the rest state the last run kept, as the
@@ -57,6 +57,18 @@ async function timeEdit(page, edit, argument) {
   return { ms: done - start, frames: frames.length, gap, task: Math.max(0, ...tasks), stats, scene };
 }
 
+// A drawn frame's cost: the view turned between two presets, a frame waited on, ten times.
+async function drawnFrameMs(page) {
+  return page.evaluate(async () => {
+    const start = performance.now();
+    for (let i = 0; i < 10; ++i) {
+      window.vfsd.command({ cmd: 'view', name: i % 2 ? 'front' : 'right' });
+      await window.vfsd.frames(1);
+    }
+    return (performance.now() - start) / 10;
+  });
+}
+
 const meshes = process.argv.slice(2).length ? process.argv.slice(2) : ['builtin:sphere:6'];
 for (const mesh of meshes) {
   for (const backend of ['cpu', 'gpu']) {
@@ -87,6 +99,9 @@ for (const mesh of meshes) {
         }
         console.log(line);
       }
+      const state = await page.evaluate(() => window.vfsd.state());
+      console.log(`${mesh} page ${backend}: a drawn frame ${(await drawnFrameMs(page)).toFixed(0)} ms ` +
+                  `(the view turned, a frame waited on; ${state.multisampled ? '' : 'not '}multisampled)`);
     } finally {
       await close();
     }
