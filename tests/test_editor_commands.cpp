@@ -379,3 +379,43 @@ TEST_CASE("Commands: the start-up scene waits at rest, an opened scene plays to 
     CHECK(editor.status() == "opened box-scene.json");
     CHECK(state["stats"]["volume_text"].get<std::string>().find("since opened") != std::string::npos);
 }
+
+TEST_CASE("Frames: a step longer than the split limit runs over frames, the same step", "[editor][frames]") {
+    // With no limit every step after the first (which no rate predicts) is split:
+    // its estimates in one frame, its move in the next, the rest in a third;
+    // without, none is.
+    struct Run {
+        std::vector<Vec3> positions;
+        int frames = 0, frames_without_time = 0;
+    };
+    const auto run = [](double split_step_ms) {
+        test::ScratchDir dir;
+        TestShell shell;
+        EditorOptions options = ShellEditor::options(dir);
+        options.split_step_ms = split_step_ms;
+        Editor editor(shell, {}, "no GPU in this test", options);
+        editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+        editor.session().set_target_time(1.0);
+        Run r;
+        while (editor.session().moving()) {
+            const double before = editor.session().time();
+            editor.advance();
+            ++r.frames;
+            if (editor.session().time() == before) ++r.frames_without_time;
+        }
+        CHECK(editor.session().time() == 1.0);
+        r.positions = editor.session().positions();
+        return r;
+    };
+    const Run whole = run(1e9), split = run(0.0);
+    CHECK(split.positions == whole.positions);
+    INFO("frames: whole steps " << whole.frames << " (" << whole.frames_without_time << " without a step), split "
+                                << split.frames << " (" << split.frames_without_time << ")");
+    // Split, a frame takes one step; every step but the first has two frames
+    // that only prepared its pieces (a try over the tolerance one more), besides
+    // the frames that prepared the run.
+    const int steps = split.frames - split.frames_without_time;
+    CHECK(steps > 3);
+    CHECK(split.frames_without_time >= whole.frames_without_time + 2 * (steps - 1));
+    CHECK(split.frames_without_time <= whole.frames_without_time + 3 * (steps - 1));
+}

@@ -112,43 +112,15 @@ std::shared_ptr<const CpuRest> CpuSteps::cpu_rest() const {
 StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     build_keepers();
     StepResult result;
-    StepMotion motion = StepMotion::sample(motion_, time, h);
-    for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) *m = frame_.to_local(*m);
-    if (region_.sphere_tool) {
-        next_ = positions_;
-        deformation_step(motion, *region_.sphere_tool, next_);
-        check_finite(next_, step, time);
-    } else {
-        // The gauge, like ∇r, is taken where the step's middle is, so that a step
-        // back retraces the step; the midpoints are predicted with the last step's
-        // ∇r and gauge fit, as sec. 5 with midpoint gradients does for ∇r alone.
-        if (!options_.gradients_at_midpoint || !have_gradients_) estimate_at_start(time);
-        if (options_.gradients_at_midpoint) {
-            StepMotion half = StepMotion::sample(motion_, time, 0.5 * h);
-            for (MotionSample* m : {&half.start, &half.middle, &half.end}) {
-                *m = frame_.to_local(*m);
-                if (options_.fit_stream_gauge) m->gauge = gauge_fit_->gauge_for(*m);
-            }
-            predict_midpoints(half, rest_->s, rest_->parts, gradients_, positions_, midpoints_);
-            sample_gradients_.clear();
-            for (const std::uint32_t v : rest_->gauge_samples) sample_gradients_.push_back(gradients_[v]);
-            const double span = std::abs(time + 0.5 * h - gradient_time_);
-            estimate_surface_gradients(midpoints_);
-            gradient_time_ = time + 0.5 * h;
-            if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(midpoints_);
-            if (options_.fit_stream_gauge) motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
-            if (std::isfinite(max_error)) {  // only the step control asks (its estimate costs ~0.1 ms)
-                result.error = std::max(estimate_error(motion.middle, h, span), motion_error(motion, half, time, h));
-                // Not taken: the next try predicts its midpoints with the ∇r and the
-                // gauge found here, as a step does with its predecessor's.
-                if (result.error > max_error) return {false, result.error};
-            }
-        }
-        if (options_.fit_stream_gauge)
-            for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
-        deformation_step(motion, rest_->s, rest_->parts, gradients_, positions_, next_);
-        check_finite(next_, step, time);
+    const bool prepared =
+        prepared_ && prepared_->time == time && prepared_->h == h && prepared_->max_error == max_error;
+    const bool moved = prepared && prepared_->moved;
+    if (!region_.sphere_tool) {
+        result = prepared ? prepared_->estimate : estimate_try(time, h, max_error);
+        prepared_.reset();
+        if (!result.taken) return result;
     }
+    if (!moved) move(time, h, step);
     positions_.swap(next_);
     input_order_current_ = false;
     if (region_.sphere_tool) return result;  // the sphere tool has neither a volume keeper nor a fold repair
@@ -171,6 +143,70 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
         }
     }
     return result;
+}
+
+// The step's RK4 move from positions_ into next_, with the ∇r and gauge estimate_try found.
+void CpuSteps::move(double time, double h, int step) {
+    StepMotion motion = StepMotion::sample(motion_, time, h);
+    for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) *m = frame_.to_local(*m);
+    if (region_.sphere_tool) {
+        next_ = positions_;
+        deformation_step(motion, *region_.sphere_tool, next_);
+    } else {
+        if (options_.fit_stream_gauge)
+            for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
+        deformation_step(motion, rest_->s, rest_->parts, gradients_, positions_, next_);
+    }
+    check_finite(next_, step, time);
+}
+
+// The first piece of a step: ∇r and the gauge where the step's middle is, and the
+// step's estimated error (with a finite `max_error`); not taken when that is over it.
+StepResult CpuSteps::estimate_try(double time, double h, double max_error) {
+    // The gauge, like ∇r, is taken where the step's middle is, so that a step
+    // back retraces the step; the midpoints are predicted with the last step's
+    // ∇r and gauge fit, as sec. 5 with midpoint gradients does for ∇r alone.
+    if (!options_.gradients_at_midpoint || !have_gradients_) estimate_at_start(time);
+    if (!options_.gradients_at_midpoint) return {};
+    StepMotion motion = StepMotion::sample(motion_, time, h), half = StepMotion::sample(motion_, time, 0.5 * h);
+    for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) *m = frame_.to_local(*m);
+    for (MotionSample* m : {&half.start, &half.middle, &half.end}) {
+        *m = frame_.to_local(*m);
+        if (options_.fit_stream_gauge) m->gauge = gauge_fit_->gauge_for(*m);
+    }
+    predict_midpoints(half, rest_->s, rest_->parts, gradients_, positions_, midpoints_);
+    sample_gradients_.clear();
+    for (const std::uint32_t v : rest_->gauge_samples) sample_gradients_.push_back(gradients_[v]);
+    const double span = std::abs(time + 0.5 * h - gradient_time_);
+    estimate_surface_gradients(midpoints_);
+    gradient_time_ = time + 0.5 * h;
+    if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(midpoints_);
+    if (!std::isfinite(max_error)) return {};  // only the step control asks (its estimate costs ~0.1 ms)
+    if (options_.fit_stream_gauge) motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
+    const double error = std::max(estimate_error(motion.middle, h, span), motion_error(motion, half, time, h));
+    // Not taken: the next try predicts its midpoints with the ∇r and the gauge
+    // found here, as a step does with its predecessor's.
+    return {!(error > max_error), error};
+}
+
+// step()'s pieces ahead of it, one a call, so that a caller can give each a
+// frame of its own: the estimates (estimate_try), then the move (into next_);
+// the step() from `time` by `h` then does the rest. A prepared try that no
+// step() takes leaves ∇r and the gauge where a rejected one would.
+std::optional<StepResult> CpuSteps::prepare_step(double time, double h, int step, double max_error) {
+    if (region_.sphere_tool || !rest_) return std::nullopt;
+    build_keepers();
+    const bool same = prepared_ && prepared_->time == time && prepared_->h == h && prepared_->max_error == max_error;
+    if (!same) {
+        prepared_ = PreparedTry{time, h, max_error, estimate_try(time, h, max_error)};
+        const StepResult estimate = prepared_->estimate;
+        if (!estimate.taken) prepared_.reset();  // over: no step() follows
+        return estimate;
+    }
+    if (prepared_->moved) return std::nullopt;
+    move(time, h, step);
+    prepared_->moved = true;
+    return prepared_->estimate;
 }
 
 // RK4's error on the rigid motion over the step (rigid_step_error) within the

@@ -68,6 +68,7 @@ public:
     bool estimates_error() const override { return !region_.sphere_tool && options_.gradients_at_midpoint; }
     std::vector<double> motion_joins() const override { return motion_.joins(); }
     bool prepare_first_step() override;
+    std::optional<StepResult> prepare_step(double time, double h, int step, double max_error) override;
     const std::vector<Vec3>& positions() const override;
     FoldRepairStats fold_repairs() const override;
     std::shared_ptr<const CpuRest> cpu_rest() const override;
@@ -83,6 +84,8 @@ private:
     void check_finite(const std::vector<Vec3>& candidate, int step, double time) const;
     void estimate_surface_gradients(const std::vector<Vec3>& at);
     void estimate_at_start(double time);
+    StepResult estimate_try(double time, double h, double max_error);
+    void move(double time, double h, int step);
     void start_from_rest();
     double estimate_error(const MotionSample& middle, double h, double span) const;
     double motion_error(const StepMotion& full, const StepMotion& first_half, double time, double h) const;
@@ -116,6 +119,14 @@ private:
     std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
     FoldRepair fold_repair_;
     double volume_restored_ = 0.0;  // Σ |drift undone|
+    // The try prepare_step() estimated (and moved into next_), for the step()
+    // from the same time by the same h.
+    struct PreparedTry {
+        double time, h, max_error;
+        StepResult estimate;
+        bool moved = false;
+    };
+    std::optional<PreparedTry> prepared_;
 };
 
 }  // namespace vfsd

@@ -93,6 +93,27 @@ double Deformation::next_time(double target, bool& controlled) const {
     return std::min(next, target);
 }
 
+// The bound on the error of the step ending at `next`: the tolerance for a
+// controlled step longer than the shortest, none (infinite) otherwise.
+double Deformation::max_error(double next, bool controlled) const {
+    const bool shortest = next - time_ <= StepControl::kShortestStep;
+    return controlled && !shortest ? options_.tolerance : std::numeric_limits<double>::infinity();
+}
+
+bool Deformation::prepare_step(double target) {
+    target = std::clamp(target, 0.0, 1.0);
+    if (time_ == target) return false;
+    const auto start = std::chrono::steady_clock::now();
+    bool controlled = false;
+    const double next = next_time(target, controlled);
+    const std::optional<StepResult> piece =
+        backend_->prepare_step(time_, next - time_, steps_taken_ + 1, max_error(next, controlled));
+    if (!piece) return false;
+    if (!piece->taken) note_step(next, controlled, *piece);  // as advance() notes a try over the tolerance
+    prepared_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return true;
+}
+
 // Keeps the step's estimate, and for a controlled step the time reached and the
 // next step's length.
 void Deformation::note_step(double next, bool controlled, const StepResult& result) {
@@ -132,15 +153,14 @@ int Deformation::advance(double target, int max_steps) {
     while (taken < max_steps && time_ != target) {
         bool controlled = false;
         const double next = next_time(target, controlled);
-        const bool shortest = next - time_ <= StepControl::kShortestStep;
-        const double max_error = controlled && !shortest ? options_.tolerance : std::numeric_limits<double>::infinity();
-        const StepResult result = backend_->step(time_, next - time_, steps_taken_ + 1, max_error);
+        const StepResult result = backend_->step(time_, next - time_, steps_taken_ + 1, max_error(next, controlled));
         note_step(next, controlled, result);
         if (!result.taken) continue;  // tried again shorter; its time counts to the step taken
         time_ = next;
         ++steps_taken_;
         ++taken;
-        if (!backend_->asynchronous()) step_ms_.push_back(milliseconds(step_start));
+        if (!backend_->asynchronous()) step_ms_.push_back(milliseconds(step_start) + prepared_ms_);
+        prepared_ms_ = 0.0;
         step_start = Clock::now();
     }
     if (taken > 0 && backend_->asynchronous()) {

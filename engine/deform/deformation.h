@@ -154,6 +154,18 @@ public:
     // the start), so that a caller can give each a frame of its own; true
     // when there was such work. The steps are the same either way.
     virtual bool prepare_first_step() { return false; }
+    // Does now the next piece of the step() from `time` by `h` with `max_error`
+    // (the `step`-th),
+    // so that a long step can be spread over frames (the CPU: first ∇r and the
+    // gauge at its middle with the error estimate, then the move; the volume
+    // keeper and the fold repair are left to step()). Returns that try's result
+    // so far, or nothing when no piece is left before step(). A try it finds
+    // over `max_error` is over (not taken): no step() follows for it. The
+    // step() from the same time by the same h then does the rest: the same step
+    // as one call makes.
+    virtual std::optional<StepResult> prepare_step(double /*time*/, double /*h*/, int /*step*/, double /*max_error*/) {
+        return std::nullopt;
+    }
     // The positions at the last step's end, in the input's vertex order.
     virtual const std::vector<Vec3>& positions() const = 0;
     // Whether step() returns before its work is done (the GPU's command queue):
@@ -188,6 +200,13 @@ public:
     int advance(double target, int max_steps = 1 << 30);
     // StepBackend::prepare_first_step.
     bool prepare_first_step() { return backend_->prepare_first_step(); }
+    // The next piece of the next step toward `target` (StepBackend::prepare_step;
+    // a try found over the tolerance is noted as advance() notes it); the next
+    // advance() toward the same target completes the step: the steps are the
+    // same bit for bit. False when no piece is left before that advance(), where
+    // the backend does not split its steps, or at the target. Its time counts
+    // to that step's.
+    bool prepare_step(double target);
 
     double time() const { return time_; }
     // Whether the steps are error-controlled (options().tolerance > 0 and a backend that estimates).
@@ -214,6 +233,7 @@ private:
     std::unique_ptr<StepBackend> backend_;
     DeformationOptions options_;
     double next_time(double target, bool& controlled) const;
+    double max_error(double next, bool controlled) const;
     void note_step(double next, bool controlled, const StepResult& result);
 
     double time_ = 0.0;
@@ -229,6 +249,7 @@ private:
     StepErrors errors_;
     std::vector<StepTry> tries_;
     std::vector<double> step_ms_;
+    double prepared_ms_ = 0.0;     // prepare_step()'s time, counted to the step it prepared
     mutable bool checked_ = true;  // positions() has been checked finite since the last advance
 };
 

@@ -181,18 +181,31 @@ void Editor::advance() {
 void Editor::integrate_for(double budget_ms) {
     if (session_->prepare_run()) {
         moving_ = false;
+        step_prepared_ms_.reset();
         return;
     }
     using Clock = std::chrono::steady_clock;
     const Clock::time_point start = Clock::now();
     const auto elapsed = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); };
+    // Where the longest of the last steps (in this run or the one before) took
+    // over split_step_ms, a step runs over frames, a piece each
+    // (Deformation::prepare_step: ∇r and the gauge at its middle, the move),
+    // the rest in the last.
+    if (longest_step_ms_ > options_.split_step_ms && session_->prepare_step()) {
+        step_prepared_ms_ = step_prepared_ms_.value_or(0.0) + elapsed();
+        return;
+    }
+    const bool last_piece = step_prepared_ms_.has_value();  // this frame only ends the step
+    const double prepared_ms = step_prepared_ms_.value_or(0.0);
+    step_prepared_ms_.reset();
     const auto steps_left = [&](double ms) { return int((budget_ms - ms) / std::max(ms_per_step_, 0.01)); };
-    int chunk = moving_ ? std::clamp(steps_left(0.0), 1, 250) : 1, taken = 0;
+    int chunk = moving_ && !last_piece ? std::clamp(steps_left(0.0), 1, 250) : 1, taken = 0;
     while (chunk > 0) {
         const int done = session_->update(chunk);
         taken += done;
-        if (taken > 0) ms_per_step_ = elapsed() / taken;
-        if (done < chunk) break;  // at the target, or stopped
+        if (taken > 0) ms_per_step_ = (elapsed() + prepared_ms) / taken;
+        if (done > 0) longest_step_ms_ = session_->longest_recent_step_ms();
+        if (done < chunk || last_piece) break;  // at the target, stopped, or the step's last piece done
         chunk = std::min(steps_left(elapsed()), 250 - taken);
     }
     moving_ = taken > 0;

@@ -72,6 +72,12 @@ struct EditorOptions {
     // (with one step after it, a frame's task stays under 50 ms in the page).
     double step_budget_ms = 15.0;
     double max_frame_ms = 30.0;
+    // Where the longest of the last steps took longer than this, a step runs over
+    // frames, a piece each (Deformation::prepare_step); otherwise a frame's steps
+    // end within about max_frame_ms + split_step_ms. The longest, not the mean:
+    // one step in a few takes longer (the fold repair's affine test, every fifth
+    // of the run).
+    double split_step_ms = 20.0;
     bool force_cpu = false;  // the "force CPU" setting at start
 };
 
@@ -168,6 +174,8 @@ private:
     std::unique_ptr<ScriptRunner> script_;
     double ms_per_step_ = 0.0;  // the integration's time per step, measured over frames
     bool moving_ = false;       // the last frame integrated
+    std::optional<double> step_prepared_ms_;  // frames did pieces of the next step, in this long
+    double longest_step_ms_ = 0.0;            // the longest of the last steps (EditorSession::longest_recent_step_ms)
     FramePacer pacer_;
     bool draw_due_ = true;
     std::string load_error_, status_;

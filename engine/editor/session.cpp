@@ -702,6 +702,20 @@ bool EditorSession::prepare_run() {
     return prepared;
 }
 
+bool EditorSession::prepare_step() {
+    if (!deformation_ || time() == target_time()) return false;
+    bool prepared = false;
+    run_step([&] { prepared = deformation_->prepare_step(target_time()); });
+    return prepared;
+}
+
+double EditorSession::longest_recent_step_ms() const {
+    if (!deformation_) return 0.0;
+    const std::vector<double>& ms = deformation_->step_milliseconds();
+    const std::size_t recent = std::min<std::size_t>(ms.size(), 8);
+    return ms.empty() ? 0.0 : *std::max_element(ms.end() - recent, ms.end());
+}
+
 // A failure on the way to the target stops the run where it is and says why.
 void EditorSession::run_step(const std::function<void()>& work) {
     try {

@@ -164,6 +164,12 @@ public:
     // True when it did some (or failed to: the error is in warnings() and the run
     // stops, as update()'s); false once the run can step.
     bool prepare_run();
+    // A piece of the next step toward the target (Deformation::prepare_step),
+    // which the next update() completes; false where none is left to prepare.
+    bool prepare_step();
+    // The longest time any of the current run's last eight steps took (its
+    // pieces together), in milliseconds; 0 before a step.
+    double longest_recent_step_ms() const;
     // Bakes the deformed mesh as the new base (one undo step) and sets the target
     // to 0. No-op at t = 0. Its undo restores the base and sets the target back to
     // the time it was applied at (update() plays there again); redo applies again.

@@ -1,0 +1,101 @@
+// A long step may run over frames (Deformation::prepare_step: ∇r and the gauge
+// at its middle with the error estimate in one call, the move in the next, the
+// volume keeper and the fold repair in the next advance()). On generated scenes
+// (any mesh, placement, region kind, motion and sign of twist), with
+// error-controlled steps and fixed ones, forward and back, the run in pieces
+// must be the run in whole steps, bit for bit, its rejected tries included; a
+// prepared try that no step takes must leave a valid run.
+#include <catch2/catch.hpp>
+
+#include "deform/deformation.h"
+#include "mesh/geometry.h"
+#include "scene/battery.h"
+#include "scene/prepared_scene.h"
+
+using namespace vfsd;
+
+namespace {
+
+const std::vector<std::string>& sources() {
+    static const std::vector<std::string> coarse = battery_mesh_sources({}, false);
+    return coarse;
+}
+
+// Every step toward `target` prepared piece by piece, then taken alone; returns
+// the steps, and the pieces prepared in `pieces`.
+int advance_in_pieces(Deformation& d, double target, int& pieces) {
+    int steps = 0;
+    while (d.time() != target) {
+        int before = pieces;
+        while (d.prepare_step(target)) ++pieces;
+        CHECK(pieces >= before + 2);  // the estimates and the move, at least
+        steps += d.advance(target, 1);
+    }
+    CHECK_FALSE(d.prepare_step(target));  // at the target: nothing to prepare
+    return steps;
+}
+
+bool same_tries(const std::vector<StepTry>& a, const std::vector<StepTry>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (a[i].time != b[i].time || a[i].length != b[i].length || a[i].error != b[i].error ||
+            a[i].taken != b[i].taken)
+            return false;
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("a step run in pieces is the step run whole, on generated scenes", "[deform][editor]") {
+    int rejected = 0;
+    for (int index = 0; index < 8; ++index) {
+        const BatteryScene b = generate_battery_scene(5, index, sources(), 1.0);
+        for (const bool controlled : {true, false}) {
+            INFO(b.name << (controlled ? ", error-controlled" : ", 30 fixed steps"));
+            Scene scene = b.scene;
+            scene.options.tolerance = controlled ? kSceneTolerance : 0.0;
+            scene.options.steps = 30;
+            const PreparedScene p = prepare_scene(scene, b.mesh);
+            Deformation whole = p.start_deformation(), halves = p.start_deformation();
+            const int whole_steps = whole.advance(1.0);
+            int pieces = 0;
+            CHECK(advance_in_pieces(halves, 1.0, pieces) == whole_steps);
+            CHECK(pieces == 2 * whole_steps + whole.step_errors().rejected);
+            CHECK(halves.positions() == whole.positions());
+            CHECK(same_tries(halves.step_tries(), whole.step_tries()));
+            CHECK(halves.step_errors().rejected == whole.step_errors().rejected);
+            CHECK(halves.fold_repairs().steps_repaired == whole.fold_repairs().steps_repaired);
+            rejected += whole.step_errors().rejected;
+            // Back to t = 0.4 along the times reached.
+            whole.advance(0.4);
+            advance_in_pieces(halves, 0.4, pieces);
+            CHECK(halves.positions() == whole.positions());
+        }
+    }
+    CHECK(rejected > 0);  // the pieces were held to rejected tries too
+}
+
+TEST_CASE("a prepared step that the next advance does not take leaves a valid run", "[deform][editor]") {
+    const BatteryScene b = generate_battery_scene(5, 2, sources(), 1.0);
+    Scene scene = b.scene;
+    scene.options.tolerance = kSceneTolerance;
+    const PreparedScene p = prepare_scene(scene, b.mesh);
+    // The same stops, one of them with a step prepared toward t = 1 that the
+    // advance to 0.35 does not take (in effect a rejected try).
+    Deformation plain = p.start_deformation(), retargeted = p.start_deformation();
+    for (Deformation* d : {&plain, &retargeted}) {
+        d->advance(0.3);
+        if (d == &retargeted) REQUIRE(retargeted.prepare_step(1.0));
+        d->advance(0.35);
+        CHECK(d->time() == 0.35);
+        d->advance(1.0);
+        CHECK(d->time() == 1.0);
+    }
+    const auto& a = plain.positions();
+    const auto& r = retargeted.positions();
+    const double size = centred_diameter(a);
+    double worst = 0.0;
+    for (std::size_t v = 0; v < a.size(); ++v) worst = std::max(worst, glm::length(a[v] - r[v]));
+    INFO("largest distance from the run without the unused try: " << worst / size << " of the size");
+    CHECK(worst < 10.0 * kSceneTolerance * size);
+}
