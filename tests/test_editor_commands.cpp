@@ -380,19 +380,21 @@ TEST_CASE("Commands: the start-up scene waits at rest, an opened scene plays to 
     CHECK(state["stats"]["volume_text"].get<std::string>().find("since opened") != std::string::npos);
 }
 
-TEST_CASE("Frames: a step longer than the split limit runs over frames, the same step", "[editor][frames]") {
-    // With no limit every step after the first (which no rate predicts) is split:
-    // its estimates in one frame, its move in the next, the rest in a third;
-    // without, none is.
+TEST_CASE("Frames: steps longer than the split limit run in pieces over frames, the same steps", "[editor][frames]") {
+    // With no limit every step after the first (which no rate predicts) runs in
+    // pieces: its estimates, its move, then the rest; without, none does. A
+    // budget of 0 gives each frame one step or one piece; a frame's budget fits
+    // several pieces of this small scene.
     struct Run {
         std::vector<Vec3> positions;
         int frames = 0, frames_without_time = 0;
     };
-    const auto run = [](double split_step_ms) {
+    const auto run = [](double split_step_ms, double budget_ms) {
         test::ScratchDir dir;
         TestShell shell;
         EditorOptions options = ShellEditor::options(dir);
         options.split_step_ms = split_step_ms;
+        options.step_budget_ms = options.max_frame_ms = budget_ms;
         Editor editor(shell, {}, "no GPU in this test", options);
         editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
         editor.session().set_target_time(1.0);
@@ -407,15 +409,19 @@ TEST_CASE("Frames: a step longer than the split limit runs over frames, the same
         r.positions = editor.session().positions();
         return r;
     };
-    const Run whole = run(1e9), split = run(0.0);
+    const Run whole = run(1e9, 0.0), split = run(0.0, 0.0), packed = run(0.0, 1e3);
     CHECK(split.positions == whole.positions);
+    CHECK(packed.positions == whole.positions);
     INFO("frames: whole steps " << whole.frames << " (" << whole.frames_without_time << " without a step), split "
-                                << split.frames << " (" << split.frames_without_time << ")");
-    // Split, a frame takes one step; every step but the first has two frames
-    // that only prepared its pieces (a try over the tolerance one more), besides
-    // the frames that prepared the run.
-    const int steps = split.frames - split.frames_without_time;
+                                << split.frames << " (" << split.frames_without_time << "), packed " << packed.frames);
+    // One step or piece a frame: whole, every frame past the run's preparation
+    // takes a step; split, every step but the first has two frames that only
+    // prepared its pieces (a try over the tolerance one more).
+    const int steps = whole.frames - whole.frames_without_time;
     CHECK(steps > 3);
+    CHECK(split.frames - split.frames_without_time == steps);
     CHECK(split.frames_without_time >= whole.frames_without_time + 2 * (steps - 1));
     CHECK(split.frames_without_time <= whole.frames_without_time + 3 * (steps - 1));
+    // A budget that fits many pieces packs them into few frames.
+    CHECK(packed.frames < whole.frames);
 }

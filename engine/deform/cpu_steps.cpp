@@ -112,8 +112,7 @@ std::shared_ptr<const CpuRest> CpuSteps::cpu_rest() const {
 StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     build_keepers();
     StepResult result;
-    const bool prepared =
-        prepared_ && prepared_->time == time && prepared_->h == h && prepared_->max_error == max_error;
+    const bool prepared = prepared_for(time, h, max_error);
     const bool moved = prepared && prepared_->moved;
     if (!region_.sphere_tool) {
         result = prepared ? prepared_->estimate : estimate_try(time, h, max_error);
@@ -196,8 +195,7 @@ StepResult CpuSteps::estimate_try(double time, double h, double max_error) {
 std::optional<StepResult> CpuSteps::prepare_step(double time, double h, int step, double max_error) {
     if (region_.sphere_tool || !rest_) return std::nullopt;
     build_keepers();
-    const bool same = prepared_ && prepared_->time == time && prepared_->h == h && prepared_->max_error == max_error;
-    if (!same) {
+    if (!prepared_for(time, h, max_error)) {
         prepared_ = PreparedTry{time, h, max_error, estimate_try(time, h, max_error)};
         const StepResult estimate = prepared_->estimate;
         if (!estimate.taken) prepared_.reset();  // over: no step() follows
@@ -207,6 +205,10 @@ std::optional<StepResult> CpuSteps::prepare_step(double time, double h, int step
     move(time, h, step);
     prepared_->moved = true;
     return prepared_->estimate;
+}
+
+bool CpuSteps::prepared_for(double time, double h, double max_error) const {
+    return prepared_ && prepared_->time == time && prepared_->h == h && prepared_->max_error == max_error;
 }
 
 // RK4's error on the rigid motion over the step (rigid_step_error) within the

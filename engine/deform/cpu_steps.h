@@ -86,6 +86,7 @@ private:
     void estimate_at_start(double time);
     StepResult estimate_try(double time, double h, double max_error);
     void move(double time, double h, int step);
+    bool prepared_for(double time, double h, double max_error) const;
     void start_from_rest();
     double estimate_error(const MotionSample& middle, double h, double span) const;
     double motion_error(const StepMotion& full, const StepMotion& first_half, double time, double h) const;

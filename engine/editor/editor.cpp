@@ -181,34 +181,60 @@ void Editor::advance() {
 void Editor::integrate_for(double budget_ms) {
     if (session_->prepare_run()) {
         moving_ = false;
-        step_prepared_ms_.reset();
+        step_so_far_ms_ = 0.0;
         return;
     }
+    // Where the longest of the last steps (in this run or the one before) took
+    // over split_step_ms, steps run in pieces.
+    if (longest_step_ms_ > options_.split_step_ms) return integrate_in_pieces(budget_ms);
     using Clock = std::chrono::steady_clock;
     const Clock::time_point start = Clock::now();
     const auto elapsed = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); };
-    // Where the longest of the last steps (in this run or the one before) took
-    // over split_step_ms, a step runs over frames, a piece each
-    // (Deformation::prepare_step: ∇r and the gauge at its middle, the move),
-    // the rest in the last.
-    if (longest_step_ms_ > options_.split_step_ms && session_->prepare_step()) {
-        step_prepared_ms_ = step_prepared_ms_.value_or(0.0) + elapsed();
-        return;
-    }
-    const bool last_piece = step_prepared_ms_.has_value();  // this frame only ends the step
-    const double prepared_ms = step_prepared_ms_.value_or(0.0);
-    step_prepared_ms_.reset();
     const auto steps_left = [&](double ms) { return int((budget_ms - ms) / std::max(ms_per_step_, 0.01)); };
-    int chunk = moving_ && !last_piece ? std::clamp(steps_left(0.0), 1, 250) : 1, taken = 0;
+    int chunk = moving_ ? std::clamp(steps_left(0.0), 1, 250) : 1, taken = 0;
     while (chunk > 0) {
         const int done = session_->update(chunk);
         taken += done;
-        if (taken > 0) ms_per_step_ = (elapsed() + prepared_ms) / taken;
+        if (taken > 0) ms_per_step_ = elapsed() / taken;
         if (done > 0) longest_step_ms_ = session_->longest_recent_step_ms();
-        if (done < chunk || last_piece) break;  // at the target, stopped, or the step's last piece done
+        if (done < chunk) break;  // at the target, or stopped
         chunk = std::min(steps_left(elapsed()), 250 - taken);
     }
     moving_ = taken > 0;
+}
+
+// Long steps in pieces (Deformation::prepare_step: ∇r and the gauge at the
+// step's middle, then the move; the step itself ends it with the volume keeper
+// and the fold repair), as many in a frame as leave room for the longest recent
+// piece within the budget, at least one: no frame takes much longer than the
+// budget plus one piece. The steps are the same as whole ones.
+void Editor::integrate_in_pieces(double budget_ms) {
+    using Clock = std::chrono::steady_clock;
+    const auto since = [](Clock::time_point t) {
+        return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+    };
+    const Clock::time_point start = Clock::now();
+    bool worked = false;
+    for (;;) {
+        const Clock::time_point piece_start = Clock::now();
+        const bool prepared = session_->prepare_step();
+        const int done = prepared ? 0 : session_->update(1);
+        if (!prepared && done == 0) break;  // at the target, or stopped
+        worked = true;
+        const double piece = since(piece_start);
+        pieces_ms_.push_back(piece);
+        if (pieces_ms_.size() > kRecentPieces) pieces_ms_.pop_front();
+        step_so_far_ms_ += piece;
+        if (done > 0) {
+            ms_per_step_ = step_so_far_ms_;
+            step_so_far_ms_ = 0.0;
+            longest_step_ms_ = session_->longest_recent_step_ms();
+            if (longest_step_ms_ <= options_.split_step_ms) break;  // whole steps again from the next frame
+        }
+        const double longest_piece = *std::max_element(pieces_ms_.begin(), pieces_ms_.end());
+        if (!session_->moving() || since(start) + longest_piece > budget_ms) break;
+    }
+    moving_ = worked;
 }
 
 void Editor::restart_deformation() {

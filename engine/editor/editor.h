@@ -7,6 +7,7 @@
 // (editor/session_view.h) and the Overlay, and draw their panels, whose controls
 // run the command table (editor/commands.h).
 
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -72,11 +73,11 @@ struct EditorOptions {
     // (with one step after it, a frame's task stays under 50 ms in the page).
     double step_budget_ms = 15.0;
     double max_frame_ms = 30.0;
-    // Where the longest of the last steps took longer than this, a step runs over
-    // frames, a piece each (Deformation::prepare_step); otherwise a frame's steps
-    // end within about max_frame_ms + split_step_ms. The longest, not the mean:
-    // one step in a few takes longer (the fold repair's affine test, every fifth
-    // of the run).
+    // Where the longest of the last steps took longer than this, steps run in
+    // pieces (Deformation::prepare_step), a frame ending within about its budget
+    // and one piece; otherwise a frame's steps end within about max_frame_ms +
+    // split_step_ms. The longest, not the mean: one step in a few takes longer
+    // (the fold repair's affine test, every fifth of the run).
     double split_step_ms = 20.0;
     bool force_cpu = false;  // the "force CPU" setting at start
 };
@@ -100,8 +101,6 @@ public:
     void dismiss_load_error() { load_error_.clear(); }
     const std::string& status() const { return status_; }
     void set_status(std::string text) { status_ = std::move(text); }
-    // Wall time per step of the last frame's steps (GPU read-back included).
-    double ms_per_step() const { return ms_per_step_; }
 
     // Opens a mesh or scene file, or several files at once (a scene and its mesh:
     // EditorSession::open); a failure keeps the document and sets load_error()
@@ -163,6 +162,7 @@ public:
 private:
     CommandContext context();
     void integrate_for(double budget_ms);
+    void integrate_in_pieces(double budget_ms);
 
     Shell& shell_;
     EditorOptions options_;
@@ -174,8 +174,11 @@ private:
     std::unique_ptr<ScriptRunner> script_;
     double ms_per_step_ = 0.0;  // the integration's time per step, measured over frames
     bool moving_ = false;       // the last frame integrated
-    std::optional<double> step_prepared_ms_;  // frames did pieces of the next step, in this long
-    double longest_step_ms_ = 0.0;            // the longest of the last steps (EditorSession::longest_recent_step_ms)
+    double longest_step_ms_ = 0.0;  // the longest of the last steps (EditorSession::longest_recent_step_ms)
+    // Steps in pieces: the last pieces' times, and the pieces of the step under way so far.
+    static constexpr std::size_t kRecentPieces = 24;
+    std::deque<double> pieces_ms_;
+    double step_so_far_ms_ = 0.0;
     FramePacer pacer_;
     bool draw_due_ = true;
     std::string load_error_, status_;

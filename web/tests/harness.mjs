@@ -93,13 +93,16 @@ export function cpuSeconds(userData) {
 
 // From now on, records in the page the times of the drawn frames (window.frameTimes)
 // and the main thread's long tasks, [start, duration] each (window.longTasks;
-// over 50 ms: a frame the page could not answer in).
+// over 50 ms: a frame the page could not answer in). Called again, it starts
+// both lists afresh (the page's frame hook wrapped and the observer made once).
 export async function recordFrames(page) {
   await page.evaluate(() => {
     window.frameTimes = [];
+    window.longTasks = [];
+    if (window.recordingFrames) return;
+    window.recordingFrames = true;
     const frame = window.Module.vfsdFrame;
     window.Module.vfsdFrame = (overlay) => { window.frameTimes.push(performance.now()); return frame(overlay); };
-    window.longTasks = [];
     new PerformanceObserver((list) => {
       for (const e of list.getEntries()) window.longTasks.push([e.startTime, e.duration]);
     }).observe({ type: 'longtask' });
