@@ -155,10 +155,9 @@ public:
     // when there was such work. The steps are the same either way.
     virtual bool prepare_first_step() { return false; }
     // Does now the next piece of the step() from `time` by `h` with `max_error`
-    // (the `step`-th),
-    // so that a long step can be spread over frames (the CPU: first ∇r and the
-    // gauge at its middle with the error estimate, then the move; the volume
-    // keeper and the fold repair are left to step()). Returns that try's result
+    // (the `step`-th), so that a long step can be spread over frames (the CPU:
+    // first ∇r and the gauge at its middle with the error estimate, then the
+    // move; the volume keeper and the fold repair are left to step()). Returns that try's result
     // so far, or nothing when no piece is left before step(). A try it finds
     // over `max_error` is over (not taken): no step() follows for it. The
     // step() from the same time by the same h then does the rest: the same step

@@ -7,9 +7,10 @@
 // For each, the time from the edit to t = 1 reached, the steps, the main thread's
 // longest task and the longest gap between drawn frames meanwhile, on the CPU path
 // (wasm, one thread) and the GPU path (WebGL2; SwiftShader here, a software
-// renderer); and first what a drawn frame costs there (the view turned). With VFSD_NATIVE set to a native `vfsd`, the page's edited scene is
-// also timed natively by `vfsd bench --latency --scene` (its curve edit or region
-// edit: the mesh open, the region computed for a region edit, the motion built,
+// renderer), and then what a drawn frame costs there (the view turned). With
+// VFSD_NATIVE set to a native `vfsd`, the page's edited scene is also timed
+// natively by `vfsd bench --latency --scene` (its curve edit or region edit: the
+// mesh open, the region computed for a region edit, the motion built,
 // integrated to t = 1; a curve edit from the rest state the last run kept, as the
 // page's) on one thread and on all, and the ratios printed.
 //   VFSD_WEB_SITE=build/web/site VFSD_NATIVE=$PWD/build/release/vfsd node web/tests/latency.mjs [builtin:sphere:6 ...]
