@@ -13,6 +13,8 @@
 #include <filesystem>
 
 #include "deform/quality.h"
+#include "editor/editor.h"
+#include "gpu/gl.h"
 #include "gpu/gl_objects.h"
 #include "gpu/gpu_deformation.h"
 #include "mesh/geometry.h"
@@ -20,6 +22,7 @@
 #include "scene/prepared_scene.h"
 #include "scene/scene_run.h"
 #include "test_gpu_support.h"
+#include "test_io_support.h"
 
 using namespace vfsd;
 
@@ -203,4 +206,115 @@ TEST_CASE("GPU runs refine a scene where it folds as the CPU's do", "[battery][g
         CHECK(error < 1e-4);
     }
     CHECK(checked == 2);
+}
+
+// The GPU's steps in pieces (Deformation::prepare_step): each piece issues its
+// passes with a fence, and one whose fence has not passed waits for nothing and
+// does nothing. On generated scenes, error-controlled and fixed, forward and
+// back, the run in pieces must be the run in whole steps, bit for bit (the same
+// passes in the same order), its rejected tries and repairs included; and a
+// step staged ahead must show nothing until taken, and vanish when not.
+TEST_CASE("a GPU step run in pieces is the step run whole", "[gpu][editor]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    const std::vector<std::string> sources = battery_mesh_sources({}, false);
+    const auto on_gpu = [](const PreparedScene& p) {
+        return gpu::make_gpu_deformation(p.file.mesh.positions, p.rings, p.region, p.motion, p.scene.options);
+    };
+    int rejected = 0, repaired = 0;
+    for (int index = 0; index < 6; ++index) {
+        const BatteryScene b = generate_battery_scene(5, index, sources, 1.0);
+        for (const bool controlled : {true, false}) {
+            INFO(b.name << (controlled ? ", error-controlled" : ", 30 fixed steps"));
+            Scene scene = b.scene;
+            scene.options.tolerance = controlled ? kSceneTolerance : 0.0;
+            scene.options.steps = 30;
+            const PreparedScene p = prepare_scene(scene, b.mesh);
+            Deformation whole = on_gpu(p), pieces = on_gpu(p);
+            const int whole_steps = whole.advance(1.0);
+            int steps = 0, done = 0;
+            for (const double target : {1.0, 0.4}) {
+                while (pieces.time() != target) {
+                    const std::vector<Vec3> before = pieces.positions();
+                    for (StepPiece piece; (piece = pieces.prepare_step(target)) != StepPiece::none;)
+                        done += piece == StepPiece::done;
+                    CHECK(pieces.positions() == before);  // the staged move is not shown before the step
+                    steps += pieces.advance(target, 1);
+                }
+                if (target == 1.0) {
+                    CHECK(steps == whole_steps);
+                    CHECK(done >= 2 * whole_steps + whole.step_errors().rejected);
+                    CHECK(pieces.step_tries().size() == whole.step_tries().size());
+                    CHECK(pieces.step_errors().rejected == whole.step_errors().rejected);
+                    CHECK(pieces.fold_repairs().steps_repaired == whole.fold_repairs().steps_repaired);
+                } else {
+                    whole.advance(0.4);
+                }
+                CHECK(pieces.positions() == whole.positions());
+            }
+            rejected += whole.step_errors().rejected;
+            repaired += static_cast<int>(whole.fold_repairs().steps_repaired);
+        }
+    }
+    CHECK(rejected > 0);  // the pieces were held to rejected tries
+    CHECK(repaired > 0);  // and to the fold repair's read-back
+
+    // A step staged ahead toward t = 1 that the advance to 0.35 does not take.
+    const BatteryScene b = generate_battery_scene(5, 2, sources, 1.0);
+    Scene scene = b.scene;
+    scene.options.tolerance = kSceneTolerance;
+    const PreparedScene p = prepare_scene(scene, b.mesh);
+    Deformation plain = on_gpu(p), retargeted = on_gpu(p);
+    for (Deformation* d : {&plain, &retargeted}) {
+        d->advance(0.3);
+        if (d == &retargeted)
+            while (retargeted.prepare_step(1.0) != StepPiece::none) {
+            }
+        d->advance(0.35);
+        CHECK(d->time() == 0.35);
+        d->advance(1.0);
+    }
+    const double size = centred_diameter(plain.positions());
+    const double worst = test::max_distance(plain.positions(), retargeted.positions());
+    INFO("largest distance from the run without the unused try: " << worst / size << " of the size");
+    CHECK(worst < 10.0 * kSceneTolerance * size);
+}
+
+// Through the editor's frames: with no split limit, every GPU step after the
+// first runs in pieces, and a frame whose piece finds the GPU still at work ends
+// there (waiting_on_gpu); the run ends where whole steps end, bit for bit.
+TEST_CASE("Frames: the GPU's steps in pieces end frames while the GPU works, the same steps", "[gpu][editor][frames]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    struct QuietShell final : editor::Shell {
+        Viewport viewport() const override { return {900, 600}; }
+        void log(const std::string&) override {}
+        void screenshot(const std::string&, bool) override {}
+    };
+    const auto run = [](double split_step_ms, int& waits) {
+        QuietShell shell;
+        test::ScratchDir dir;
+        editor::EditorOptions options;
+        options.autosave_directory = dir.file("autosave");
+        options.split_step_ms = split_step_ms;
+        editor::Editor editor(
+            shell, [](const PreparedScene& p) { return gpu::start_gpu_deformation(p); }, "", options);
+        editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+        editor.session().set_target_time(1.0);
+        int frames = 0;
+        for (; editor.session().moving() && frames < 100000; ++frames) {
+            editor.advance();
+            if (!editor.waiting_on_gpu()) continue;
+            ++waits;
+            glFinish();  // a shell's next frame comes later; here, once the GPU is done
+        }
+        INFO(frames << " frames, " << waits << " of them ended waiting for the GPU");
+        INFO("warnings: " << (editor.session().warnings().empty() ? "" : editor.session().warnings().back()));
+        CHECK(editor.session().stats().backend == "gpu");
+        CHECK(editor.session().time() == 1.0);
+        return editor.session().positions();
+    };
+    int whole_waits = 0, split_waits = 0;
+    const std::vector<Vec3> whole = run(1e9, whole_waits), split = run(0.0, split_waits);
+    CHECK(whole_waits == 0);  // whole steps wait within the step
+    std::printf("GPU steps in pieces through the editor: %d frames ended waiting for the GPU\n", split_waits);
+    CHECK(split == whole);
 }

@@ -27,11 +27,11 @@ int advance_in_pieces(Deformation& d, double target, int& pieces) {
     int steps = 0;
     while (d.time() != target) {
         int before = pieces;
-        while (d.prepare_step(target)) ++pieces;
+        while (d.prepare_step(target) == StepPiece::done) ++pieces;
         CHECK(pieces >= before + 2);  // the estimates and the move, at least
         steps += d.advance(target, 1);
     }
-    CHECK_FALSE(d.prepare_step(target));  // at the target: nothing to prepare
+    CHECK(d.prepare_step(target) == StepPiece::none);  // at the target: nothing to prepare
     return steps;
 }
 
@@ -85,7 +85,7 @@ TEST_CASE("a prepared step that the next advance does not take leaves a valid ru
     Deformation plain = p.start_deformation(), retargeted = p.start_deformation();
     for (Deformation* d : {&plain, &retargeted}) {
         d->advance(0.3);
-        if (d == &retargeted) REQUIRE(retargeted.prepare_step(1.0));
+        if (d == &retargeted) REQUIRE(retargeted.prepare_step(1.0) == StepPiece::done);
         d->advance(0.35);
         CHECK(d->time() == 0.35);
         d->advance(1.0);

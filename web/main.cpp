@@ -340,8 +340,10 @@ void App::frame() {
     // once (setImmediate: no 4 ms timeout clamp) and one that changed what the page
     // shows by a timeout, which gives the browser a chance to render it; frames
     // queued back to back by setImmediate alone left it none until the run ended.
+    // One that ended waiting for the GPU's passes (steps in pieces) is followed by
+    // a timeout too: polling its fence back to back would keep a core from them.
     const Timing timing = !(editor_->busy() && editor_->draws_costly()) ? Timing::animation_frames
-                          : shown                                       ? Timing::timeout
+                          : shown || editor_->waiting_on_gpu()          ? Timing::timeout
                                                                         : Timing::immediate;
     if (timing != timing_) {
         if (timing == Timing::immediate)

@@ -100,18 +100,20 @@ double Deformation::max_error(double next, bool controlled) const {
     return controlled && !shortest ? options_.tolerance : std::numeric_limits<double>::infinity();
 }
 
-bool Deformation::prepare_step(double target) {
+StepPiece Deformation::prepare_step(double target) {
     target = std::clamp(target, 0.0, 1.0);
-    if (time_ == target) return false;
+    if (time_ == target) return StepPiece::none;
     const auto start = std::chrono::steady_clock::now();
     bool controlled = false;
     const double next = next_time(target, controlled);
     const std::optional<StepResult> piece =
         backend_->prepare_step(time_, next - time_, steps_taken_ + 1, max_error(next, controlled));
-    if (!piece) return false;
+    if (!piece) return StepPiece::none;
+    if (!first_piece_) first_piece_ = start;
+    if (piece->waiting) return StepPiece::waiting;
     if (!piece->taken) note_step(next, controlled, *piece);  // as advance() notes a try over the tolerance
     prepared_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return true;
+    return StepPiece::done;
 }
 
 // Keeps the step's estimate, and for a controlled step the time reached and the
@@ -165,9 +167,11 @@ int Deformation::advance(double target, int max_steps) {
     }
     if (taken > 0 && backend_->asynchronous()) {
         backend_->finish();
-        step_ms_.insert(step_ms_.end(), taken, milliseconds(start) / taken);
+        const auto since = std::min(start, first_piece_.value_or(start));
+        step_ms_.insert(step_ms_.end(), taken, milliseconds(since) / taken);
         checked_ = false;
     }
+    if (taken > 0) first_piece_.reset();
     return taken;
 }
 

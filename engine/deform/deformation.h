@@ -11,6 +11,7 @@
 // steps: the CPU's passes (deform/cpu_steps.h, the readable reference) or their
 // GPU twins (gpu/gpu_deformation.h), which mirror them pass by pass.
 
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -129,6 +130,16 @@ struct DeviceVertices {
 struct StepResult {
     bool taken = true;    // false: the estimate was over the bound and nothing moved
     double error = -1.0;  // the step's estimated error / the mesh's size (< 0: none)
+    // prepare_step only: the device has not finished the last piece's passes,
+    // and this call did nothing.
+    bool waiting = false;
+};
+
+// What Deformation::prepare_step did.
+enum class StepPiece {
+    none,     // nothing: no piece is left before the next advance() (or at the target)
+    done,     // a piece of the next step
+    waiting,  // nothing yet: the device is still running the last piece (ask again later)
 };
 
 // One backend's steps of sec. 5. Deformation calls step() with the times of its grid.
@@ -157,7 +168,9 @@ public:
     // Does now the next piece of the step() from `time` by `h` with `max_error`
     // (the `step`-th), so that a long step can be spread over frames (the CPU:
     // first ∇r and the gauge at its middle with the error estimate, then the
-    // move; the volume keeper and the fold repair are left to step()). Returns that try's result
+    // move; the volume keeper and the fold repair are left to step(); the GPU:
+    // the same passes, each piece's issued with a fence, and a piece whose fence
+    // has not passed returns `waiting` and does nothing). Returns that try's result
     // so far, or nothing when no piece is left before step(). A try it finds
     // over `max_error` is over (not taken): no step() follows for it. The
     // step() from the same time by the same h then does the rest: the same step
@@ -202,10 +215,11 @@ public:
     // The next piece of the next step toward `target` (StepBackend::prepare_step;
     // a try found over the tolerance is noted as advance() notes it); the next
     // advance() toward the same target completes the step: the steps are the
-    // same bit for bit. False when no piece is left before that advance(), where
+    // same bit for bit. None when no piece is left before that advance(), where
     // the backend does not split its steps, or at the target. Its time counts
-    // to that step's.
-    bool prepare_step(double target);
+    // to that step's (an asynchronous backend's step: the time from its first
+    // piece to its end, the GPU's work and the frames between included).
+    StepPiece prepare_step(double target);
 
     double time() const { return time_; }
     // Whether the steps are error-controlled (options().tolerance > 0 and a backend that estimates).
@@ -249,6 +263,7 @@ private:
     std::vector<StepTry> tries_;
     std::vector<double> step_ms_;
     double prepared_ms_ = 0.0;     // prepare_step()'s time, counted to the step it prepared
+    std::optional<std::chrono::steady_clock::time_point> first_piece_;  // of the next step (asynchronous backends)
     mutable bool checked_ = true;  // positions() has been checked finite since the last advance
 };
 

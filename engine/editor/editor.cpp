@@ -167,7 +167,12 @@ void Editor::advance() {
     };
     const FramePacer::Plan plan = pacer_.plan(now(), session_->moving(), shell_.keeps_image(), shell_.renderer_busy());
     integrate_for(plan.integrate_ms);
-    draw_due_ = plan.draw || !session_->moving();  // the last step is always drawn
+    // While an edit's run keeps the last result on show, the shape drawn does not
+    // change: a shell that keeps its image (the page) has nothing new to draw
+    // until the run ends, unless it changed something itself (the camera, the
+    // dragged curve). Its draws would take the renderer from the GPU's steps.
+    const bool same_image = shell_.keeps_image() && session_->holding_result();
+    draw_due_ = (plan.draw && !same_image) || !session_->moving();  // the last step is always drawn
     pacer_.integrated(now(), draw_due_);
     if (autosave_.maybe_save(*session_)) shell_.autosaved();
 }
@@ -179,6 +184,7 @@ void Editor::advance() {
 // budget plus one step. Steps are the same whatever their grouping. update() ends
 // with the stats' read-back, so the GPU's work is in the time.
 void Editor::integrate_for(double budget_ms) {
+    waiting_on_gpu_ = false;
     if (session_->prepare_run()) {
         moving_ = false;
         step_so_far_ms_ = 0.0;
@@ -207,7 +213,8 @@ void Editor::integrate_for(double budget_ms) {
 // step's middle, then the move; the step itself ends it with the volume keeper
 // and the fold repair), as many in a frame as leave room for the longest recent
 // piece within the budget, at least one: no frame takes much longer than the
-// budget plus one piece. The steps are the same as whole ones.
+// budget plus one piece. The steps are the same as whole ones. On the GPU a
+// piece issues passes; the frame ends where the GPU has not finished the last.
 void Editor::integrate_in_pieces(double budget_ms) {
     using Clock = std::chrono::steady_clock;
     const auto since = [](Clock::time_point t) {
@@ -217,14 +224,19 @@ void Editor::integrate_in_pieces(double budget_ms) {
     bool worked = false;
     for (;;) {
         const Clock::time_point piece_start = Clock::now();
-        const bool prepared = session_->prepare_step();
+        const StepPiece piece = session_->prepare_step();
+        if (piece == StepPiece::waiting) {  // the GPU runs the last piece's passes: the frame ends
+            waiting_on_gpu_ = worked = true;
+            break;
+        }
+        const bool prepared = piece == StepPiece::done;
         const int done = prepared ? 0 : session_->update(1);
         if (!prepared && done == 0) break;  // at the target, or stopped
         worked = true;
-        const double piece = since(piece_start);
-        pieces_ms_.push_back(piece);
+        const double piece_ms = since(piece_start);
+        pieces_ms_.push_back(piece_ms);
         if (pieces_ms_.size() > kRecentPieces) pieces_ms_.pop_front();
-        step_so_far_ms_ += piece;
+        step_so_far_ms_ += piece_ms;
         if (done > 0) {
             ms_per_step_ = step_so_far_ms_;
             step_so_far_ms_ = 0.0;

@@ -143,6 +143,9 @@ public:
     Overlay overlay(std::optional<glm::dvec2> pointer) const;
     // Frames must follow each other: the deformation moves or a script runs.
     bool busy() const { return session_->moving() || (script_ && !script_->done()); }
+    // Whether the last frame ended waiting for the GPU to finish a step's passes
+    // (steps in pieces): a shell may let the next frame come a little later.
+    bool waiting_on_gpu() const { return waiting_on_gpu_; }
     // The context's loss (web): the deformation restarts from the CPU state.
     void restart_deformation();
 
@@ -174,6 +177,7 @@ private:
     std::unique_ptr<ScriptRunner> script_;
     double ms_per_step_ = 0.0;  // the integration's time per step, measured over frames
     bool moving_ = false;       // the last frame integrated
+    bool waiting_on_gpu_ = false;   // the last frame's pieces ended waiting for the GPU
     double longest_step_ms_ = 0.0;  // the longest of the last steps (EditorSession::longest_recent_step_ms)
     // Steps in pieces: the last pieces' times, and the pieces of the step under way so far.
     static constexpr std::size_t kRecentPieces = 24;

@@ -702,11 +702,11 @@ bool EditorSession::prepare_run() {
     return prepared;
 }
 
-bool EditorSession::prepare_step() {
-    if (!deformation_ || time() == target_time()) return false;
-    bool prepared = false;
-    run_step([&] { prepared = deformation_->prepare_step(target_time()); });
-    return prepared;
+StepPiece EditorSession::prepare_step() {
+    if (!deformation_ || time() == target_time()) return StepPiece::none;
+    StepPiece piece = StepPiece::none;
+    run_step([&] { piece = deformation_->prepare_step(target_time()); });
+    return piece;
 }
 
 double EditorSession::longest_recent_step_ms() const {

@@ -165,8 +165,9 @@ public:
     // stops, as update()'s); false once the run can step.
     bool prepare_run();
     // A piece of the next step toward the target (Deformation::prepare_step),
-    // which the next update() completes; false where none is left to prepare.
-    bool prepare_step();
+    // which the next update() completes; none where none is left to prepare,
+    // waiting where the GPU is still running the last piece.
+    StepPiece prepare_step();
     // The longest time any of the current run's last eight steps took (its
     // pieces together), in milliseconds; 0 before a step.
     double longest_recent_step_ms() const;

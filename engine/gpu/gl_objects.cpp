@@ -236,4 +236,31 @@ VertexArray::VertexArray() {
 
 void VertexArray::bind() const { glBindVertexArray(name_.id()); }
 
+Fence& Fence::operator=(Fence&& o) noexcept {
+    if (this != &o) {
+        reset();
+        sync_ = std::exchange(o.sync_, nullptr);
+    }
+    return *this;
+}
+
+Fence Fence::issue() {
+    Fence fence;
+    fence.sync_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    glFlush();
+    return fence;
+}
+
+bool Fence::signaled() const {
+    if (!sync_) return true;
+    GLint status = GL_UNSIGNALED;
+    glGetSynciv(sync_, GL_SYNC_STATUS, 1, nullptr, &status);
+    return status == GL_SIGNALED;
+}
+
+void Fence::reset() {
+    if (sync_) glDeleteSync(sync_);
+    sync_ = nullptr;
+}
+
 }  // namespace vfsd::gpu

@@ -141,6 +141,26 @@ private:
     GlName<detail::delete_buffer> name_;
 };
 
+// A fence after the commands issued so far: signaled() tells whether the GPU has
+// executed them, without waiting (a read-back waits; in WebGL the page's main
+// thread would wait for the GPU process, SwiftShader's passes included).
+class Fence {
+public:
+    Fence() = default;
+    Fence(Fence&& o) noexcept : sync_(std::exchange(o.sync_, nullptr)) {}
+    Fence& operator=(Fence&& o) noexcept;
+    Fence(const Fence&) = delete;
+    Fence& operator=(const Fence&) = delete;
+    ~Fence() { reset(); }
+    // Inserts the fence and flushes, so that the GPU starts on what came before it.
+    static Fence issue();
+    bool signaled() const;
+    void reset();
+
+private:
+    GLsync sync_ = nullptr;
+};
+
 // A vertex array object; the fullscreen passes draw with an empty one.
 class VertexArray {
 public:

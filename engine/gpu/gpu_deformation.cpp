@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "base/error.h"
 #include "deform/step_error.h"
@@ -76,43 +78,18 @@ public:
     std::vector<double> motion_joins() const override { return motion_.joins(); }
 
     StepResult step(double time, double h, int, double max_error) override {
-        StepResult result;
-        StepMotion motion = StepMotion::sample(motion_, time, h);
-        if (!options_.gradients_at_midpoint || !have_gradients_) {
-            estimate_surface_gradients(At::positions);
-            gradient_time_ = time;
+        Try& t = try_for(time, h, max_error);
+        while (t.stage != Stage::move_issued) {
+            run_stage(t);
+            if (!t.result.taken) return std::exchange(try_, std::nullopt)->result;
         }
-        if (options_.gradients_at_midpoint) {
-            StepMotion half = StepMotion::sample(motion_, time, 0.5 * h);
-            if (options_.fit_stream_gauge)
-                for (MotionSample* m : {&half.start, &half.middle, &half.end}) m->gauge = gauge_fit_->gauge_for(*m);
-            passes_.predict_midpoints(half);
-            const std::vector<Vec3> predicted_gradients = sample_gradients_;
-            const double span = std::abs(time + 0.5 * h - gradient_time_);
-            estimate_surface_gradients(At::midpoints);
-            gradient_time_ = time + 0.5 * h;
-            if (estimates_error() && std::isfinite(max_error)) {
-                motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
-                result.error =
-                    sampled_step_error(motion.middle, h, span, sample_positions_.size(),
-                                       [&](std::size_t j) {
-                                           return StepErrorSample{sample_positions_[j], sample_s_[j],
-                                                                  predicted_gradients[j], sample_gradients_[j]};
-                                       }) /
-                    size_;
-                // RK4's own error on the rigid motion (CpuSteps::motion_error).
-                const StepMotion second_half = StepMotion::sample(motion_, time + 0.5 * h, 0.5 * h);
-                result.error = std::max(result.error, rigid_step_error(motion, half, second_half, size_) / size_);
-                if (result.error > max_error) return {false, result.error};
-            }
-        }
-        if (options_.fit_stream_gauge)
-            for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
-        passes_.deformation_step(motion);
-        if (keep_volume_) passes_.keep_volume();
+        const StepResult result = t.result;
+        try_.reset();
+        passes_.commit_step();
         positions_valid_ = false;
-        // CpuSteps::step's order: the keeper, then the repair and the keeper's
-        // Newton steps where it left the rings, again while the repair acts.
+        // CpuSteps::step's order: the keeper (in the staged step), then the
+        // repair and the keeper's Newton steps where it left the rings, again
+        // while the repair acts.
         const bool affine_test = FoldRepair::affine_test_due(time, time + h);
         for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
             if (!repair_folds(affine_test && cycle == 0, cycle == 0) || !keep_volume_) break;
@@ -123,6 +100,24 @@ public:
             positions_valid_ = false;
         }
         return result;
+    }
+
+    // The step's pieces, a stage each (run_stage), each ending with the passes it
+    // issued and a fence; a piece whose fence the GPU has not passed yet waits
+    // for nothing and does nothing. So the caller's thread never waits for the
+    // GPU within a piece: on a software renderer (a page on SwiftShader) its
+    // passes take tens of milliseconds a step.
+    std::optional<StepResult> prepare_step(double time, double h, int, double max_error) override {
+        Try& t = try_for(time, h, max_error);
+        if (!t.fence.signaled()) {
+            StepResult waiting = t.result;
+            waiting.waiting = true;
+            return waiting;
+        }
+        if (t.stage == Stage::move_issued) return std::nullopt;  // step() ends it
+        run_stage(t);
+        if (!t.result.taken) return std::exchange(try_, std::nullopt)->result;
+        return t.result;
     }
 
     const std::vector<Vec3>& positions() const override {
@@ -155,15 +150,121 @@ private:
         if (keep_volume_) passes_.measure_rest_volume(bounding_box(positions).centre());
     }
 
-    // Normal, gradient (eq. 6) and smoothing passes on the positions or midpoints,
-    // and the gauge's fit there (CpuSteps::fit_stream_gauge).
-    void estimate_surface_gradients(At at) {
+    // A try of the step from `time` by `h` (CpuSteps::step's work, in stages):
+    // ∇r at the start where needed (and the gauge's samples gathered there),
+    // then fitted; the midpoints predicted and ∇r there; then fitted, the error
+    // estimated, and the move staged (the deformation pass, the volume keeper
+    // and the fold test). step() commits it and repairs.
+    enum class Stage { begin, start_issued, estimate_issued, move_issued };
+    struct Try {
+        double time = 0.0, h = 0.0, max_error = 0.0;
+        Stage stage = Stage::begin;
+        Fence fence;  // after the stage's passes
+        StepResult result;
+        std::vector<Vec3> predicted_gradients;  // at the gauge's samples, those the midpoints were predicted with
+        double span = 0.0;                      // the time from those to the step's middle
+    };
+
+    // The try of this step, begun now or earlier (prepare_step); one of another
+    // step, begun and not taken, is dropped with its staged move.
+    Try& try_for(double time, double h, double max_error) {
+        if (try_ && try_->time == time && try_->h == h && try_->max_error == max_error) return *try_;
+        if (try_ && try_->stage == Stage::move_issued) passes_.discard_step();
+        try_.emplace();
+        try_->time = time, try_->h = h, try_->max_error = max_error;
+        return *try_;
+    }
+
+    // The try's next stage: reads back what the last one gathered (waiting for
+    // the GPU when its fence has not passed) and issues the next passes.
+    void run_stage(Try& t) {
+        const bool midpoint = options_.gradients_at_midpoint;
+        switch (t.stage) {
+            case Stage::begin:
+                if (!midpoint || !have_gradients_) {
+                    issue_surface_gradients(At::positions);
+                    gradient_time_ = t.time;
+                    t.stage = Stage::start_issued;
+                } else {
+                    issue_prediction(t);
+                }
+                break;
+            case Stage::start_issued:
+                fit_gauge();
+                if (midpoint)
+                    issue_prediction(t);
+                else
+                    issue_move(t);
+                break;
+            case Stage::estimate_issued:
+                fit_gauge();
+                t.result = estimate_error(t);
+                if (!t.result.taken) return;
+                issue_move(t);
+                break;
+            case Stage::move_issued: return;
+        }
+        t.fence = Fence::issue();
+    }
+
+    // The midpoints predicted over half the step with the current ∇r and gauge,
+    // and ∇r there.
+    void issue_prediction(Try& t) {
+        StepMotion half = StepMotion::sample(motion_, t.time, 0.5 * t.h);
+        if (options_.fit_stream_gauge)
+            for (MotionSample* m : {&half.start, &half.middle, &half.end}) m->gauge = gauge_fit_->gauge_for(*m);
+        passes_.predict_midpoints(half);
+        t.predicted_gradients = sample_gradients_;
+        t.span = std::abs(t.time + 0.5 * t.h - gradient_time_);
+        issue_surface_gradients(At::midpoints);
+        gradient_time_ = t.time + 0.5 * t.h;
+        t.stage = Stage::estimate_issued;
+    }
+
+    // The step's estimated error (CpuSteps::estimate_error and motion_error), with
+    // the gauge just fitted at its middle; not taken when over the try's bound.
+    StepResult estimate_error(const Try& t) const {
+        if (!estimates_error() || !std::isfinite(t.max_error)) return {};
+        StepMotion motion = StepMotion::sample(motion_, t.time, t.h);
+        motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
+        double error = sampled_step_error(motion.middle, t.h, t.span, sample_positions_.size(),
+                                          [&](std::size_t j) {
+                                              return StepErrorSample{sample_positions_[j], sample_s_[j],
+                                                                     t.predicted_gradients[j], sample_gradients_[j]};
+                                          }) /
+                       size_;
+        const StepMotion half = StepMotion::sample(motion_, t.time, 0.5 * t.h);
+        const StepMotion second_half = StepMotion::sample(motion_, t.time + 0.5 * t.h, 0.5 * t.h);
+        error = std::max(error, rigid_step_error(motion, half, second_half, size_) / size_);
+        return {!(error > t.max_error), error};
+    }
+
+    // The deformation pass and the volume keeper, staged, and the fold test on
+    // their result where step() will ask for its count.
+    void issue_move(Try& t) {
+        StepMotion motion = StepMotion::sample(motion_, t.time, t.h);
+        if (options_.fit_stream_gauge)
+            for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
+        passes_.stage_step(motion, keep_volume_);
+        folds_tested_ = fold_repair_.active() && !FoldRepair::affine_test_due(t.time, t.time + t.h);
+        if (folds_tested_) passes_.test_folds();
+        t.stage = Stage::move_issued;
+    }
+
+    // Normal, gradient (eq. 6) and smoothing passes on the positions or
+    // midpoints, and the gauge's samples gathered there for fit_gauge().
+    void issue_surface_gradients(At at) {
         passes_.estimate_normals(at);
         passes_.estimate_gradients(at);
         passes_.smooth_gradients(options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing);
         have_gradients_ = true;
+        if (options_.fit_stream_gauge) passes_.gather_gauge_samples(at);
+    }
+
+    // The gauge's fit to the samples gathered last (CpuSteps::fit_stream_gauge).
+    void fit_gauge() {
         if (!options_.fit_stream_gauge) return;
-        passes_.read_gauge_samples(at, sample_positions_, sample_gradients_);
+        passes_.read_gathered_samples(sample_positions_, sample_gradients_);
         std::vector<GaugeSample> samples;
         for (std::size_t j = 0; j < sample_positions_.size(); ++j)
             samples.push_back(gauge_sample(sample_positions_[j], sample_s_[j], sample_gradients_[j]));
@@ -175,7 +276,10 @@ private:
     // back); the repaired positions go back up, with their rings' area vectors
     // for the keeper. Returns whether it repaired.
     bool repair_folds(bool affine_test, bool new_step) {
-        if (!fold_repair_.active() || (!affine_test && passes_.count_folds() == 0)) return false;
+        if (!fold_repair_.active()) return false;
+        // The count of the fold test issue_move staged, or of a test now.
+        const bool tested = std::exchange(folds_tested_, false);
+        if (!affine_test && (tested ? passes_.read_fold_count() : passes_.count_folds()) == 0) return false;
         std::vector<Vec3> work = gather_in_order(positions(), order_);
         fold_repair_.repair(work, rings_, affine_test, new_step);
         if (!fold_repair_.acted()) return false;
@@ -201,6 +305,8 @@ private:
     std::optional<GaugeFit> gauge_fit_;
     FoldRepair fold_repair_;
     bool keep_volume_ = false;
+    bool folds_tested_ = false;  // the staged step's fold test has been issued and not read
+    std::optional<Try> try_;
 };
 
 }  // namespace

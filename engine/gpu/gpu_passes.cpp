@@ -79,7 +79,7 @@ GpuPasses::GpuPasses(const std::vector<Vec3>& positions, const std::vector<doubl
     neighbours_.upload(entry_data.data());
 
     // State textures, each with its framebuffer.
-    for (Target* t : {&vertex_[0], &vertex_[1], &midpoint_, &normal_, &gradient_[0], &gradient_[1]})
+    for (Target* t : {&vertex_[0], &vertex_[1], &vertex_[2], &midpoint_, &normal_, &gradient_[0], &gradient_[1]})
         *t = make_target();
     s_.resize(count_);
     for (std::size_t v = 0; v < count_; ++v) s_[v] = region_float(s[v]);
@@ -159,8 +159,24 @@ void GpuPasses::smooth_gradients(int steps, double weight, bool tangent) {
 void GpuPasses::predict_midpoints(const StepMotion& half) { draw_deformation(half, midpoint_); }
 
 void GpuPasses::deformation_step(const StepMotion& motion) {
-    draw_deformation(motion, vertex_[1 - current_]);
-    current_ = 1 - current_;
+    stage_step(motion, false);
+    commit_step();
+}
+
+void GpuPasses::stage_step(const StepMotion& motion, bool keep_volume) {
+    const int into = spare();
+    draw_deformation(motion, vertex_[into]);
+    current_ = into;
+    if (keep_volume) keep_volume_staged();
+}
+
+void GpuPasses::commit_step() { committed_ = current_; }
+void GpuPasses::discard_step() { current_ = committed_; }
+
+// The vertex texture neither the committed nor the working positions are in.
+int GpuPasses::spare() const {
+    for (int slot = 0;; ++slot)
+        if (slot != current_ && slot != committed_) return slot;
 }
 
 // The deformation pass (deform.frag) from the current positions into `target`.
@@ -230,7 +246,11 @@ void GpuPasses::set_gauge_samples(const std::vector<std::uint32_t>& vertices) {
 }
 
 void GpuPasses::read_gauge_samples(At at, std::vector<Vec3>& positions, std::vector<Vec3>& gradients) const {
-    positions.clear(), gradients.clear();
+    gather_gauge_samples(at);
+    read_gathered_samples(positions, gradients);
+}
+
+void GpuPasses::gather_gauge_samples(At at) const {
     if (gauge_sample_count_ == 0) return;
     bind_mesh(gauge_samples_program_);
     gauge_samples_program_.set("u_count", static_cast<int>(2 * gauge_sample_count_));
@@ -239,6 +259,11 @@ void GpuPasses::read_gauge_samples(At at, std::vector<Vec3>& positions, std::vec
     source(at).bind(kUnitPositions);
     gradient_[current_gradient_].texture.bind(kUnitGradients);
     draw(gauge_samples_);
+}
+
+void GpuPasses::read_gathered_samples(std::vector<Vec3>& positions, std::vector<Vec3>& gradients) const {
+    positions.clear(), gradients.clear();
+    if (gauge_sample_count_ == 0) return;
     const std::vector<float> data = gauge_samples_.framebuffer.read_rgba32f();
     for (std::size_t j = 0; j < gauge_sample_count_; ++j) {
         const float* p = &data[8 * j];
@@ -270,6 +295,11 @@ void GpuPasses::sum_volume(const std::vector<Target>& levels) const {
 }
 
 void GpuPasses::keep_volume() {
+    keep_volume_staged();
+    commit_step();
+}
+
+void GpuPasses::keep_volume_staged() {
     if (volume_sums_.empty()) return;
     sum_volume(volume_sums_);
     bind_mesh(keep_volume_program_);
@@ -279,8 +309,9 @@ void GpuPasses::keep_volume() {
     rest_volume_sums_.back().texture.bind(kUnitExtra[1]);
     vertex_[current_].texture.bind(kUnitPositions);
     normal_.texture.bind(kUnitNormals);
-    draw(vertex_[1 - current_]);
-    current_ = 1 - current_;
+    const int into = spare();
+    draw(vertex_[into]);
+    current_ = into;
 }
 
 void GpuPasses::set_fold_checks(const FoldChecks& checks, const std::vector<std::uint32_t>& to_vertex) {
@@ -307,7 +338,12 @@ void GpuPasses::set_fold_checks(const FoldChecks& checks, const std::vector<std:
 }
 
 std::size_t GpuPasses::count_folds() const {
-    if (fold_check_count_ == 0) return 0;
+    test_folds();
+    return read_fold_count();
+}
+
+void GpuPasses::test_folds() const {
+    if (fold_check_count_ == 0) return;
     bind_mesh(fold_program_);
     fold_program_.set("u_count", static_cast<int>(fold_check_count_));
     fold_program_.set("u_fold_triangles", kUnitExtra[0]);
@@ -319,6 +355,10 @@ std::size_t GpuPasses::count_folds() const {
     vertex_[current_].texture.bind(kUnitPositions);
     draw(fold_flags_);
     sum(fold_flags_.texture, fold_sums_);
+}
+
+std::size_t GpuPasses::read_fold_count() const {
+    if (fold_check_count_ == 0) return 0;
     return static_cast<std::size_t>(fold_sums_.back().framebuffer.read_rgba32f()[0] + 0.5f);
 }
 
@@ -337,6 +377,7 @@ std::vector<float> GpuPasses::packed(const std::vector<Vec3>& xyz, bool with_s, 
 }
 
 void GpuPasses::set_positions(const std::vector<Vec3>& positions) {
+    current_ = committed_;
     vertex_[current_].texture.upload(packed(positions, true, origin_).data());
 }
 
@@ -351,7 +392,7 @@ std::vector<Vec3> GpuPasses::read(const Target& target, const Vec3& origin) cons
     return out;
 }
 
-std::vector<Vec3> GpuPasses::read_positions() const { return read(vertex_[current_], origin_); }
+std::vector<Vec3> GpuPasses::read_positions() const { return read(vertex_[committed_], origin_); }
 std::vector<Vec3> GpuPasses::read_midpoints() const { return read(midpoint_, origin_); }
 std::vector<Vec3> GpuPasses::read_normals() const { return read(normal_, Vec3(0.0)); }
 std::vector<Vec3> GpuPasses::read_gradients() const { return read(gradient_[current_gradient_], Vec3(0.0)); }

@@ -4,7 +4,8 @@
 // one fragment shader each, with the names of their CPU counterparts in
 // engine/deform/passes.h. All state lives in textures laid out by TextureLayout:
 //
-//   vertex texture    RGBA32F  xyz = position, w = s   (two, ping-pong over steps)
+//   vertex texture    RGBA32F  xyz = position, w = s   (three: the committed
+//                     positions, a staged step's, the next pass's target)
 //   midpoint texture  RGBA32F  xyz = predicted midpoint, w = s
 //   normal texture    RGBA32F  xyz = normal
 //   gradient texture  RGBA32F  xyz = ∇r                (two, ping-pong while smoothing)
@@ -51,12 +52,24 @@ public:
     void predict_midpoints(const StepMotion& half);
     // Deformation pass: one RK4 step of the positions; the new positions become current.
     void deformation_step(const StepMotion& motion);
+    // The same, with the volume keeper after it where asked, kept aside: the
+    // passes that follow (the fold test, the keeper) see the step's positions,
+    // but read_positions() and vertex_texture() the last committed ones until
+    // commit_step(); discard_step() drops it (a step begun ahead, in pieces, that
+    // no step takes: deform/deformation.h, StepBackend::prepare_step).
+    void stage_step(const StepMotion& motion, bool keep_volume);
+    void commit_step();
+    void discard_step();
 
     // Beyond the paper. The stream gauge's samples (field/stream_gauge.h): the
     // vertices are set once; each read is one read-back of two texels per sample,
     // its position (or midpoint) and its ∇r, for the fit on the CPU.
     void set_gauge_samples(const std::vector<std::uint32_t>& vertices);
     void read_gauge_samples(At at, std::vector<Vec3>& positions, std::vector<Vec3>& gradients) const;
+    // The same in two halves, so that the GPU can run the gather before the read
+    // waits for it (a fence between: gl_objects.h).
+    void gather_gauge_samples(At at) const;
+    void read_gathered_samples(std::vector<Vec3>& positions, std::vector<Vec3>& gradients) const;
     // The volume keeper (deform/volume_keeper.h) on a closed mesh: measure_rest_volume
     // takes the sums of the current positions about `centre` as the rest's, once;
     // keep_volume then moves the blend vertices by one Newton step on the volume,
@@ -68,6 +81,9 @@ public:
     // is one read-back of a single texel.
     void set_fold_checks(const FoldChecks& checks, const std::vector<std::uint32_t>& to_vertex);
     std::size_t count_folds() const;
+    // The same in two halves: the test and its sum, then the read-back of the count.
+    void test_folds() const;
+    std::size_t read_fold_count() const;
 
     // Replace GPU state (tests, restarts); uploads are not read-backs.
     void set_positions(const std::vector<Vec3>& positions);
@@ -81,7 +97,7 @@ public:
     // The current vertex texture (xyz + s), for drawing without read-back. Its
     // positions are relative to vertex_origin(), the centre of the mesh's bounding
     // box at upload: float32 keeps its precision for a mesh far from the origin.
-    const Texture& vertex_texture() const { return vertex_[current_].texture; }
+    const Texture& vertex_texture() const { return vertex_[committed_].texture; }
     const Vec3& vertex_origin() const { return origin_; }
     std::size_t vertex_count() const { return count_; }
     const TextureLayout& layout() const { return layout_; }
@@ -100,6 +116,8 @@ private:
     void bind_mesh(const Program& program) const;
     void draw(const Target& target) const;
     void draw_deformation(const StepMotion& motion, const Target& target) const;
+    int spare() const;
+    void keep_volume_staged();
     std::vector<float> packed(const std::vector<Vec3>& xyz, bool with_s, const Vec3& origin) const;
     std::vector<Vec3> read(const Target& target, const Vec3& origin) const;
 
@@ -109,8 +127,10 @@ private:
     Vec3 origin_{0.0};
     std::vector<float> s_;  // s as uploaded (float32, see upload rules in the .cpp)
     Texture rings_, neighbours_;
-    Target vertex_[2], midpoint_, normal_, gradient_[2];
-    int current_ = 0, current_gradient_ = 0;
+    Target vertex_[3], midpoint_, normal_, gradient_[2];
+    // Three vertex textures: the committed positions, the working ones (a staged
+    // step's) and one the next pass writes into.
+    int current_ = 0, committed_ = 0, current_gradient_ = 0;
     Program normal_program_, gradient_program_, smooth_program_, deform_program_;
     VertexArray empty_vao_;
     // Beyond the paper, each made by its set_ or measure_ call.
