@@ -14,10 +14,8 @@ namespace vfsd {
 VolumeKeeper::VolumeKeeper(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings,
                            const std::vector<std::uint32_t>& blend)
     : blend_(blend) {
+    if (!applies_to(rings)) return;
     const auto n = static_cast<std::uint32_t>(rings.vertex_count());
-    if (n == 0) return;
-    for (std::uint32_t v = 0; v < n; ++v)
-        if (!rings.is_closed(v)) return;
     centre_ = bounding_box(rest).centre();
     double fixed = 0.0;
     for (std::uint32_t v = 0; v < n; ++v) {
@@ -33,6 +31,14 @@ VolumeKeeper::VolumeKeeper(const std::vector<Vec3>& rest, const std::vector<doub
         weight_.push_back((1.0 - bernstein_blend(s[v])) * bernstein_blend_derivative(s[v]));
     rest_volume_ = fixed_volume_ + moving_volume(rest);
     active_ = true;
+}
+
+bool VolumeKeeper::applies_to(const VertexRings& rings) {
+    const auto n = static_cast<std::uint32_t>(rings.vertex_count());
+    if (n == 0) return false;
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (!rings.is_closed(v)) return false;
+    return true;
 }
 
 double VolumeKeeper::moving_volume(const std::vector<Vec3>& p) const {

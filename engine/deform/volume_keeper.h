@@ -35,6 +35,8 @@ public:
                  const std::vector<std::uint32_t>& blend);
     VolumeKeeper() = default;
 
+    // Whether a keeper of a mesh with these rings is active: every ring closed.
+    static bool applies_to(const VertexRings& rings);
     bool active() const { return active_; }
     double rest_volume() const { return rest_volume_; }
     // The volume of the mesh at `positions`.

@@ -60,9 +60,14 @@ public:
         : motion_(std::move(motion)),
           options_(options),
           passes_(checked_size(positions), checked_s(region, positions.size()), rings) {
-        set_up_default_scheme(positions, region.s, rings);
+        if (options_.fit_stream_gauge || options_.keep_volume || options_.repair_folds)
+            set_up_ = SetUp{positions, region.s, rings};
         size_ = centred_diameter(positions);
     }
+
+    // The default scheme's set-up, a part a call (set_up_part); the first step
+    // does what is left.
+    bool prepare_first_step() override { return set_up_part(); }
 
     const char* name() const override { return "gpu"; }
     bool asynchronous() const override { return true; }
@@ -78,6 +83,8 @@ public:
     std::vector<double> motion_joins() const override { return motion_.joins(); }
 
     StepResult step(double time, double h, int, double max_error) override {
+        while (set_up_part()) {
+        }
         Try& t = try_for(time, h, max_error);
         while (t.stage != Stage::move_issued) {
             run_stage(t);
@@ -108,6 +115,7 @@ public:
     // GPU within a piece: on a software renderer (a page on SwiftShader) its
     // passes take tens of milliseconds a step.
     std::optional<StepResult> prepare_step(double time, double h, int, double max_error) override {
+        if (set_up_part()) return StepResult{};
         Try& t = try_for(time, h, max_error);
         if (!t.fence.signaled()) {
             StepResult waiting = t.result;
@@ -129,25 +137,42 @@ public:
 private:
     // What the CPU's default scheme adds to sec. 5, in the CPU's work order
     // (mesh/vertex_order.h) where the order matters: the gauge's samples and the
-    // fold repair's rounds.
-    void set_up_default_scheme(const std::vector<Vec3>& positions, const std::vector<double>& s,
-                               const VertexRings& rings) {
-        if (!options_.fit_stream_gauge && !options_.keep_volume && !options_.repair_folds) return;
-        order_ = breadth_first_order(rings);
-        s_ = gather_in_order(s, order_);
-        if (options_.fit_stream_gauge) {
-            std::vector<std::uint32_t> samples = gauge_samples(s_, blend_vertices(s_));
-            for (std::uint32_t& v : samples) v = order_[v];
-            passes_.set_gauge_samples(samples);
-            for (const std::uint32_t v : samples) sample_s_.push_back(s[v]);
+    // fold repair's rounds. A part per call, so that an editor can give each a
+    // frame of its own (on the page each is CPU work in wasm: 8-26 ms at 41k
+    // vertices); false once all are done. The keeper's rest volume is measured
+    // on the rest positions: no step runs before the last part.
+    struct SetUp {
+        std::vector<Vec3> positions;
+        std::vector<double> s;
+        VertexRings rings;
+        int part = 0;
+    };
+    bool set_up_part() {
+        if (!set_up_) return false;
+        SetUp& up = *set_up_;
+        switch (up.part++) {
+            case 0:
+                order_ = breadth_first_order(up.rings);
+                s_ = gather_in_order(up.s, order_);
+                if (options_.fit_stream_gauge) {
+                    std::vector<std::uint32_t> samples = gauge_samples(s_, blend_vertices(s_));
+                    for (std::uint32_t& v : samples) v = order_[v];
+                    passes_.set_gauge_samples(samples);
+                    for (const std::uint32_t v : samples) sample_s_.push_back(up.s[v]);
+                }
+                return true;
+            case 1:
+                if (!options_.repair_folds) return set_up_part();
+                rings_ = reorder_rings(up.rings, order_);
+                fold_repair_ = FoldRepair(gather_in_order(up.positions, order_), s_, rings_, order_);
+                passes_.set_fold_checks(fold_repair_.checks(), order_);
+                return true;
+            default:
+                keep_volume_ = options_.keep_volume && VolumeKeeper::applies_to(up.rings);
+                if (keep_volume_) passes_.measure_rest_volume(bounding_box(up.positions).centre());
+                set_up_.reset();
+                return true;
         }
-        if (options_.repair_folds) {
-            rings_ = reorder_rings(rings, order_);
-            fold_repair_ = FoldRepair(gather_in_order(positions, order_), s_, rings_, order_);
-            passes_.set_fold_checks(fold_repair_.checks(), order_);
-        }
-        keep_volume_ = options_.keep_volume && VolumeKeeper(positions, s, rings, blend_vertices(s)).active();
-        if (keep_volume_) passes_.measure_rest_volume(bounding_box(positions).centre());
     }
 
     // A try of the step from `time` by `h` (CpuSteps::step's work, in stages):
@@ -306,6 +331,7 @@ private:
     FoldRepair fold_repair_;
     bool keep_volume_ = false;
     bool folds_tested_ = false;  // the staged step's fold test has been issued and not read
+    std::optional<SetUp> set_up_;  // the set-up's parts still to do
     std::optional<Try> try_;
 };
 
