@@ -76,8 +76,12 @@ App::App(const AppOptions& options) : options_(options), window_(open_window(opt
     // The GPU path runs in this window's context when it can, else the CPU path.
     GlfwContext context(window_);
     const std::string reason = gpu::cpu_path_reason(gpu::query_capabilities(), options.backend);
-    const editor::DeformationFactory gpu =
-        reason.empty() ? editor::DeformationFactory(gpu::start_gpu_deformation) : editor::DeformationFactory();
+    // A curve edit's GPU deformation takes the last one's set-up from the shelf.
+    const auto shelf = std::make_shared<gpu::GpuRestShelf>();
+    const editor::DeformationFactory gpu = reason.empty() ? editor::DeformationFactory([shelf](const PreparedScene& p) {
+        return gpu::start_gpu_deformation(p, shelf);
+    })
+                                                          : editor::DeformationFactory();
     editor::EditorOptions editor_options;
     editor_options.autosave_directory = editor::default_autosave_directory();
     editor_options.force_cpu = options.backend == "cpu";

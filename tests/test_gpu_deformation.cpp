@@ -322,3 +322,53 @@ TEST_CASE("Frames: the GPU's steps in pieces end frames while the GPU works, the
                 split_waits);
     CHECK(split == whole);
 }
+
+// A curve edit in the editors makes a new deformation of the same mesh, region
+// and options: with a shelf it takes the set-up the last one left (no parts left
+// to prepare) and makes the same steps, bit for bit, as one set up afresh. A
+// region edit takes the passes' textures and programs and sets up the rest
+// again, with the same steps as a fresh one too.
+TEST_CASE("a GPU deformation takes the last one's set-up from the shelf, the same steps", "[gpu]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    const std::vector<std::string> sources = battery_mesh_sources({}, false);
+    const BatteryScene b = generate_battery_scene(5, 1, sources, 1.0);
+    Scene scene = b.scene;
+    scene.options.tolerance = kSceneTolerance;
+    const PreparedScene p = prepare_scene(scene, b.mesh);
+    const auto shelf = std::make_shared<gpu::GpuRestShelf>();
+    const auto parts = [](Deformation& d) {
+        int n = 0;
+        while (d.prepare_first_step()) ++n;
+        return n;
+    };
+    std::vector<Vec3> first;
+    {
+        Deformation d = gpu::start_gpu_deformation(p, shelf);
+        CHECK(parts(d) == 3);  // the gauge's samples, the fold test's checks, the rest volume
+        d.advance(1.0);
+        first = d.positions();
+    }
+    Deformation fresh = gpu::start_gpu_deformation(p);
+    fresh.advance(1.0);
+    REQUIRE(fresh.positions() == first);
+    {
+        Deformation again = gpu::start_gpu_deformation(p, shelf);
+        CHECK(parts(again) == 0);  // taken from the shelf
+        again.advance(0.5);
+        again.advance(1.0);
+        CHECK(again.positions() == first);
+        CHECK(again.fold_repairs().steps_repaired == fresh.fold_repairs().steps_repaired);
+        // Meanwhile the shelf is empty: a second deformation sets up its own.
+        Deformation beside = gpu::start_gpu_deformation(p, shelf);
+        CHECK(parts(beside) == 3);
+    }
+    PreparedScene other = p;
+    for (double& s : other.region.s) s = s > 0.0 && s < 1.0 ? 0.5 * s : s;
+    Deformation elsewhere = gpu::start_gpu_deformation(other, shelf);
+    CHECK(parts(elsewhere) == 3);  // another region: the set-up beyond the passes again
+    elsewhere.advance(1.0);
+    Deformation elsewhere_fresh = gpu::start_gpu_deformation(other);
+    elsewhere_fresh.advance(1.0);
+    CHECK(elsewhere.positions() == elsewhere_fresh.positions());
+    CHECK(test::max_distance(elsewhere.positions(), first) > 0.0);  // the region made a difference
+}

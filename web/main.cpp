@@ -190,6 +190,9 @@ private:
     std::string backend_ = "auto";
     std::string gl_renderer_;
     editor::DeformationFactory gpu_;
+    // A curve edit's GPU deformation takes the last one's set-up (textures,
+    // programs, the fold test's checks) from here.
+    std::shared_ptr<gpu::GpuRestShelf> gpu_shelf_ = std::make_shared<gpu::GpuRestShelf>();
     std::string gpu_reason_;
 
     std::unique_ptr<editor::Editor> editor_;
@@ -237,7 +240,10 @@ void App::init_gl() {
     caps.renderer = gl_renderer_;
     // ?backend=gpu runs the GPU passes even on a software renderer.
     gpu_reason_ = gpu::cpu_path_reason(caps, backend_);
-    gpu_ = gpu_reason_.empty() ? editor::DeformationFactory(gpu::start_gpu_deformation) : editor::DeformationFactory();
+    gpu_ = gpu_reason_.empty() ? editor::DeformationFactory([shelf = gpu_shelf_](const PreparedScene& p) {
+        return gpu::start_gpu_deformation(p, shelf);
+    })
+                               : editor::DeformationFactory();
 }
 
 Viewport App::viewport() const {
@@ -381,6 +387,7 @@ void App::context_lost() {
     // Nothing on the GPU survives; the mesh, region and curve live on the CPU.
     lost_ = true;
     editor_->release();
+    gpu_shelf_->clear();  // its GL objects went with the context
     vfsd_page_context(1);
 }
 
@@ -390,6 +397,7 @@ void App::context_restored() {
     view_.reset();
     fence_ = nullptr;  // it went with the lost context
     editor_->restart_deformation();
+    gpu_shelf_->clear();
     init_gl();
     lost_ = false;
     vfsd_page_context(0);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -48,6 +49,69 @@ const std::vector<Vec3>& checked_size(const std::vector<Vec3>& positions) {
     return positions;
 }
 
+// What a deformation sets up at rest for its mesh, region and options: the
+// passes' textures and programs, and what the CPU's default scheme adds to sec. 5,
+// in the CPU's work order (mesh/vertex_order.h) where the order matters (the
+// gauge's samples, the fold repair's rounds), with the fold repair at rest.
+struct GpuRest {
+    GpuRest(const std::vector<Vec3>& positions, const VertexRings& rings, const Region& region,
+            const DeformationOptions& options)
+        : positions(positions),
+          s(region.s),
+          input_rings(rings),
+          options(options),
+          passes(checked_size(positions), checked_s(region, positions.size()), rings) {}
+
+    // Whether a deformation of this mesh can take the passes (their textures
+    // and programs), and whether it can take the rest of the set-up too (the
+    // same region and options).
+    bool fits_mesh(const std::vector<Vec3>& p, const VertexRings& r) const {
+        return p == positions && r.offsets == input_rings.offsets && r.neighbours == input_rings.neighbours &&
+               r.wedge == input_rings.wedge;
+    }
+    bool fits_scheme(const Region& region, const DeformationOptions& o) const {
+        return region.s == s && o.fit_stream_gauge == options.fit_stream_gauge &&
+               o.keep_volume == options.keep_volume && o.repair_folds == options.repair_folds;
+    }
+    // The passes kept for a deformation of the same mesh with this region and
+    // these options, the set-up beyond them done again.
+    void restart(const Region& region, const DeformationOptions& o) {
+        s = checked_s(region, positions.size());
+        options = o;
+        passes.set_region(s);
+        parts_done = 0;
+        order.clear(), s_in_order.clear(), sample_s.clear();
+        rings = {};
+        fold_repair = {};
+        keep_volume = false;
+    }
+
+    std::vector<Vec3> positions;
+    std::vector<double> s;
+    VertexRings input_rings;
+    DeformationOptions options;
+    GpuPasses passes;
+    int parts_done = 0;  // of the set-up beyond the passes (GpuSteps::set_up_part)
+    // order, s_in_order and rings in the CPU's work order.
+    std::vector<std::uint32_t> order;
+    std::vector<double> s_in_order, sample_s;
+    VertexRings rings;
+    FoldRepair fold_repair;
+    bool keep_volume = false;
+};
+
+}  // namespace
+
+struct GpuRestShelf::Kept {
+    std::unique_ptr<GpuRest> rest;
+};
+
+GpuRestShelf::GpuRestShelf() : kept_(std::make_unique<Kept>()) {}
+GpuRestShelf::~GpuRestShelf() = default;
+void GpuRestShelf::clear() { kept_->rest.reset(); }
+
+namespace {
+
 // The step of CpuSteps::step, pass for pass. With the paper's steps alone it
 // reads nothing back; the stream gauge's fit reads its samples back (two texels
 // each) once per step and fits on the CPU, and the fold test reads one texel per
@@ -55,15 +119,31 @@ const std::vector<Vec3>& checked_size(const std::vector<Vec3>& positions) {
 // that folded or one the repair's affine test is due after (every 1/5 in time).
 class GpuSteps final : public StepBackend {
 public:
+    // With a shelf, the set-up a deformation of the same mesh, region and options
+    // left there is taken (the passes' positions set back to rest), and this
+    // one's is left there when it ends.
     GpuSteps(const std::vector<Vec3>& positions, const VertexRings& rings, const Region& region, InnerMotion motion,
-             DeformationOptions options)
-        : motion_(std::move(motion)),
-          options_(options),
-          passes_(checked_size(positions), checked_s(region, positions.size()), rings) {
-        if (options_.fit_stream_gauge || options_.keep_volume || options_.repair_folds)
-            set_up_ = SetUp{positions, region.s, rings};
+             DeformationOptions options, std::shared_ptr<GpuRestShelf> shelf)
+        : motion_(std::move(motion)), options_(options), shelf_(std::move(shelf)) {
+        std::unique_ptr<GpuRest>* kept = shelf_ ? &shelf_->kept().rest : nullptr;
+        if (kept && *kept && !region.sphere_tool && (*kept)->fits_mesh(positions, rings)) {
+            rest_ = std::move(*kept);
+            if (!rest_->fits_scheme(region, options)) rest_->restart(region, options);  // a region edit
+            rest_->passes.set_positions(positions);
+            rest_->passes.set_gradients(std::vector<Vec3>(positions.size(), Vec3(0.0)));
+        } else {
+            rest_ = std::make_unique<GpuRest>(positions, rings, region, options);
+        }
+        if (set_up_done()) fold_repair_ = rest_->fold_repair;
         size_ = centred_diameter(positions);
     }
+    ~GpuSteps() override {
+        if (!shelf_) return;
+        try_.reset();
+        shelf_->kept().rest = std::move(rest_);
+    }
+    GpuSteps(const GpuSteps&) = delete;
+    GpuSteps& operator=(const GpuSteps&) = delete;
 
     // The default scheme's set-up, a part a call (set_up_part); the first step
     // does what is left.
@@ -73,7 +153,7 @@ public:
     bool asynchronous() const override { return true; }
     void finish() const override { glFinish(); }
     std::optional<DeviceVertices> device_vertices() const override {
-        return DeviceVertices{&passes_.vertex_texture(), passes_.vertex_origin()};
+        return DeviceVertices{&passes().vertex_texture(), passes().vertex_origin()};
     }
     FoldRepairStats fold_repairs() const override { return fold_repair_.stats(); }
 
@@ -92,17 +172,17 @@ public:
         }
         const StepResult result = t.result;
         try_.reset();
-        passes_.commit_step();
+        passes().commit_step();
         positions_valid_ = false;
         // CpuSteps::step's order: the keeper (in the staged step), then the
         // repair and the keeper's Newton steps where it left the rings, again
         // while the repair acts.
         const bool affine_test = FoldRepair::affine_test_due(time, time + h);
         for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
-            if (!repair_folds(affine_test && cycle == 0, cycle == 0) || !keep_volume_) break;
+            if (!repair_folds(affine_test && cycle == 0, cycle == 0) || !rest_->keep_volume) break;
             for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
-                if (k > 0) passes_.estimate_normals(At::positions);  // the area vectors where the last step left them
-                passes_.keep_volume();
+                if (k > 0) passes().estimate_normals(At::positions);  // the area vectors where the last step left them
+                passes().keep_volume();
             }
             positions_valid_ = false;
         }
@@ -129,48 +209,45 @@ public:
     }
 
     const std::vector<Vec3>& positions() const override {
-        if (!positions_valid_) positions_ = passes_.read_positions();
+        if (!positions_valid_) positions_ = passes().read_positions();
         positions_valid_ = true;
         return positions_;
     }
 
 private:
-    // What the CPU's default scheme adds to sec. 5, in the CPU's work order
-    // (mesh/vertex_order.h) where the order matters: the gauge's samples and the
-    // fold repair's rounds. A part per call, so that an editor can give each a
-    // frame of its own (on the page each is CPU work in wasm: 8-26 ms at 41k
-    // vertices); false once all are done. The keeper's rest volume is measured
-    // on the rest positions: no step runs before the last part.
-    struct SetUp {
-        std::vector<Vec3> positions;
-        std::vector<double> s;
-        VertexRings rings;
-        int part = 0;
-    };
+    // The set-up beyond the passes (GpuRest), a part per call, so that an editor
+    // can give each a frame of its own (on the page each is CPU work in wasm:
+    // 8-26 ms at 41k vertices); false once all are done. The keeper's rest volume
+    // is measured on the rest positions: no step runs before the last part.
+    static constexpr int kSetUpParts = 3;
+    bool set_up_done() const {
+        return rest_->parts_done == kSetUpParts ||
+               !(options_.fit_stream_gauge || options_.keep_volume || options_.repair_folds);
+    }
     bool set_up_part() {
-        if (!set_up_) return false;
-        SetUp& up = *set_up_;
-        switch (up.part++) {
+        if (set_up_done()) return false;
+        GpuRest& r = *rest_;
+        switch (r.parts_done++) {
             case 0:
-                order_ = breadth_first_order(up.rings);
-                s_ = gather_in_order(up.s, order_);
+                r.order = breadth_first_order(r.input_rings);
+                r.s_in_order = gather_in_order(r.s, r.order);
                 if (options_.fit_stream_gauge) {
-                    std::vector<std::uint32_t> samples = gauge_samples(s_, blend_vertices(s_));
-                    for (std::uint32_t& v : samples) v = order_[v];
-                    passes_.set_gauge_samples(samples);
-                    for (const std::uint32_t v : samples) sample_s_.push_back(up.s[v]);
+                    std::vector<std::uint32_t> samples = gauge_samples(r.s_in_order, blend_vertices(r.s_in_order));
+                    for (std::uint32_t& v : samples) v = r.order[v];
+                    r.passes.set_gauge_samples(samples);
+                    for (const std::uint32_t v : samples) r.sample_s.push_back(r.s[v]);
                 }
                 return true;
             case 1:
                 if (!options_.repair_folds) return set_up_part();
-                rings_ = reorder_rings(up.rings, order_);
-                fold_repair_ = FoldRepair(gather_in_order(up.positions, order_), s_, rings_, order_);
-                passes_.set_fold_checks(fold_repair_.checks(), order_);
+                r.rings = reorder_rings(r.input_rings, r.order);
+                r.fold_repair = FoldRepair(gather_in_order(r.positions, r.order), r.s_in_order, r.rings, r.order);
+                r.passes.set_fold_checks(r.fold_repair.checks(), r.order);
                 return true;
             default:
-                keep_volume_ = options_.keep_volume && VolumeKeeper::applies_to(up.rings);
-                if (keep_volume_) passes_.measure_rest_volume(bounding_box(up.positions).centre());
-                set_up_.reset();
+                r.keep_volume = options_.keep_volume && VolumeKeeper::applies_to(r.input_rings);
+                if (r.keep_volume) r.passes.measure_rest_volume(bounding_box(r.positions).centre());
+                fold_repair_ = r.fold_repair;
                 return true;
         }
     }
@@ -194,7 +271,7 @@ private:
     // step, begun and not taken, is dropped with its staged move.
     Try& try_for(double time, double h, double max_error) {
         if (try_ && try_->time == time && try_->h == h && try_->max_error == max_error) return *try_;
-        if (try_ && try_->stage == Stage::move_issued) passes_.discard_step();
+        if (try_ && try_->stage == Stage::move_issued) passes().discard_step();
         try_.emplace();
         try_->time = time, try_->h = h, try_->max_error = max_error;
         return *try_;
@@ -238,7 +315,7 @@ private:
         StepMotion half = StepMotion::sample(motion_, t.time, 0.5 * t.h);
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&half.start, &half.middle, &half.end}) m->gauge = gauge_fit_->gauge_for(*m);
-        passes_.predict_midpoints(half);
+        passes().predict_midpoints(half);
         t.predicted_gradients = sample_gradients_;
         t.span = std::abs(t.time + 0.5 * t.h - gradient_time_);
         issue_surface_gradients(At::midpoints);
@@ -254,7 +331,7 @@ private:
         motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
         double error = sampled_step_error(motion.middle, t.h, t.span, sample_positions_.size(),
                                           [&](std::size_t j) {
-                                              return StepErrorSample{sample_positions_[j], sample_s_[j],
+                                              return StepErrorSample{sample_positions_[j], rest_->sample_s[j],
                                                                      t.predicted_gradients[j], sample_gradients_[j]};
                                           }) /
                        size_;
@@ -270,29 +347,29 @@ private:
         StepMotion motion = StepMotion::sample(motion_, t.time, t.h);
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
-        passes_.stage_step(motion, keep_volume_);
+        passes().stage_step(motion, rest_->keep_volume);
         folds_tested_ = fold_repair_.active() && !FoldRepair::affine_test_due(t.time, t.time + t.h);
-        if (folds_tested_) passes_.test_folds();
+        if (folds_tested_) passes().test_folds();
         t.stage = Stage::move_issued;
     }
 
     // Normal, gradient (eq. 6) and smoothing passes on the positions or
     // midpoints, and the gauge's samples gathered there for fit_gauge().
     void issue_surface_gradients(At at) {
-        passes_.estimate_normals(at);
-        passes_.estimate_gradients(at);
-        passes_.smooth_gradients(options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing);
+        passes().estimate_normals(at);
+        passes().estimate_gradients(at);
+        passes().smooth_gradients(options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing);
         have_gradients_ = true;
-        if (options_.fit_stream_gauge) passes_.gather_gauge_samples(at);
+        if (options_.fit_stream_gauge) passes().gather_gauge_samples(at);
     }
 
     // The gauge's fit to the samples gathered last (CpuSteps::fit_stream_gauge).
     void fit_gauge() {
         if (!options_.fit_stream_gauge) return;
-        passes_.read_gathered_samples(sample_positions_, sample_gradients_);
+        passes().read_gathered_samples(sample_positions_, sample_gradients_);
         std::vector<GaugeSample> samples;
         for (std::size_t j = 0; j < sample_positions_.size(); ++j)
-            samples.push_back(gauge_sample(sample_positions_[j], sample_s_[j], sample_gradients_[j]));
+            samples.push_back(gauge_sample(sample_positions_[j], rest_->sample_s[j], sample_gradients_[j]));
         gauge_fit_ = GaugeFit(std::move(samples));
     }
 
@@ -304,48 +381,47 @@ private:
         if (!fold_repair_.active()) return false;
         // The count of the fold test issue_move staged, or of a test now.
         const bool tested = std::exchange(folds_tested_, false);
-        if (!affine_test && (tested ? passes_.read_fold_count() : passes_.count_folds()) == 0) return false;
-        std::vector<Vec3> work = gather_in_order(positions(), order_);
-        fold_repair_.repair(work, rings_, affine_test, new_step);
+        if (!affine_test && (tested ? passes().read_fold_count() : passes().count_folds()) == 0) return false;
+        std::vector<Vec3> work = gather_in_order(positions(), rest_->order);
+        fold_repair_.repair(work, rest_->rings, affine_test, new_step);
         if (!fold_repair_.acted()) return false;
-        for (std::size_t i = 0; i < order_.size(); ++i) positions_[order_[i]] = work[i];
-        passes_.set_positions(positions_);
-        passes_.estimate_normals(At::positions);
+        for (std::size_t i = 0; i < rest_->order.size(); ++i) positions_[rest_->order[i]] = work[i];
+        passes().set_positions(positions_);
+        passes().estimate_normals(At::positions);
         return true;
     }
 
+    GpuPasses& passes() const { return rest_->passes; }
+
     InnerMotion motion_;
     DeformationOptions options_;
-    GpuPasses passes_;
+    std::shared_ptr<GpuRestShelf> shelf_;
+    std::unique_ptr<GpuRest> rest_;
     bool have_gradients_ = false;
     double gradient_time_ = 0.0;  // the time the gradient texture was estimated for
     double size_ = 0.0;           // centred_diameter at rest
     mutable std::vector<Vec3> positions_;
     mutable bool positions_valid_ = false;
-    // The default scheme's state; order_, s_ and rings_ in the CPU's work order.
-    std::vector<std::uint32_t> order_;
-    std::vector<double> s_, sample_s_;
-    VertexRings rings_;
+    // The default scheme's state in this run.
     std::vector<Vec3> sample_positions_, sample_gradients_;
     std::optional<GaugeFit> gauge_fit_;
     FoldRepair fold_repair_;
-    bool keep_volume_ = false;
     bool folds_tested_ = false;  // the staged step's fold test has been issued and not read
-    std::optional<SetUp> set_up_;  // the set-up's parts still to do
     std::optional<Try> try_;
 };
 
 }  // namespace
 
 Deformation make_gpu_deformation(const std::vector<Vec3>& positions, const VertexRings& rings, Region region,
-                                 InnerMotion motion, DeformationOptions options) {
+                                 InnerMotion motion, DeformationOptions options, std::shared_ptr<GpuRestShelf> shelf) {
     check_options(options);
-    return Deformation(std::make_unique<GpuSteps>(positions, rings, region, std::move(motion), options), options);
+    return Deformation(
+        std::make_unique<GpuSteps>(positions, rings, region, std::move(motion), options, std::move(shelf)), options);
 }
 
-Deformation start_gpu_deformation(const PreparedScene& scene) {
-    return make_gpu_deformation(scene.file.mesh.positions, scene.rings, scene.region, scene.motion,
-                                scene.scene.options);
+Deformation start_gpu_deformation(const PreparedScene& scene, std::shared_ptr<GpuRestShelf> shelf) {
+    return make_gpu_deformation(scene.file.mesh.positions, scene.rings, scene.region, scene.motion, scene.scene.options,
+                                std::move(shelf));
 }
 
 }  // namespace vfsd::gpu

@@ -278,8 +278,9 @@ void GpuPasses::measure_rest_volume(const Vec3& centre) {
     volume_sums_ = sum_levels(layout_.width, layout_.height);
     rest_volume_sums_ = sum_levels(layout_.width, layout_.height);
     if (!sum_program_.id()) sum_program_ = fullscreen_program("sum pass", "sum.frag", false);
-    volume_program_ = fullscreen_program("volume pass", "volume.frag", true);
-    keep_volume_program_ = fullscreen_program("volume keeper pass", "keep_volume.frag", true);
+    if (!volume_program_.id()) volume_program_ = fullscreen_program("volume pass", "volume.frag", true);
+    if (!keep_volume_program_.id())
+        keep_volume_program_ = fullscreen_program("volume keeper pass", "keep_volume.frag", true);
     sum_volume(rest_volume_sums_);
     check_gl("measuring the rest volume");
 }
@@ -333,7 +334,7 @@ void GpuPasses::set_fold_checks(const FoldChecks& checks, const std::vector<std:
     fold_flags_ = make_target(layout.width, layout.height);
     fold_sums_ = sum_levels(layout.width, layout.height);
     if (!sum_program_.id()) sum_program_ = fullscreen_program("sum pass", "sum.frag", false);
-    fold_program_ = fullscreen_program("fold pass", "fold_check.frag", false);
+    if (!fold_program_.id()) fold_program_ = fullscreen_program("fold pass", "fold_check.frag", false);
     check_gl("setting up the fold test");
 }
 
@@ -379,6 +380,13 @@ std::vector<float> GpuPasses::packed(const std::vector<Vec3>& xyz, bool with_s, 
 void GpuPasses::set_positions(const std::vector<Vec3>& positions) {
     current_ = committed_;
     vertex_[current_].texture.upload(packed(positions, true, origin_).data());
+}
+
+void GpuPasses::set_region(const std::vector<double>& s) {
+    if (s.size() != count_)
+        throw InputError("GPU passes: " + std::to_string(s.size()) + " values of s for " + std::to_string(count_) +
+                         " vertices");
+    for (std::size_t v = 0; v < count_; ++v) s_[v] = region_float(s[v]);
 }
 
 void GpuPasses::set_gradients(const std::vector<Vec3>& gradients) {

@@ -88,6 +88,8 @@ public:
     // Replace GPU state (tests, restarts); uploads are not read-backs.
     void set_positions(const std::vector<Vec3>& positions);
     void set_gradients(const std::vector<Vec3>& gradients);
+    // A new s for the next set_positions() (the vertex texture's w).
+    void set_region(const std::vector<double>& s);
     // Read GPU state back (each call is one counted read-back).
     std::vector<Vec3> read_positions() const;
     std::vector<Vec3> read_midpoints() const;
