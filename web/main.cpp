@@ -165,6 +165,7 @@ public:
 
 private:
     void init_gl();
+    std::string url_choice(const json& options, const char* name, const std::vector<std::string>& allowed);
     editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_, multisampled_}; }
     void pause();
     void resume();
@@ -200,10 +201,21 @@ private:
     std::vector<double> array_;
 };
 
+// The value of URL option `name` if it is one of `allowed` (the first is the
+// default); another is reported in the page's log, and the default taken.
+std::string App::url_choice(const json& options, const char* name, const std::vector<std::string>& allowed) {
+    const std::string value = options.value(name, allowed.front());
+    if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return value;
+    std::string list;
+    for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    log("?" + std::string(name) + "=" + value + ": expected one of " + list + "; " + allowed.front() + " taken");
+    return allowed.front();
+}
+
 App::App(const json& options) {
     allow_float_ = options.value("float", true);
-    antialias_ = options.value("antialias", std::string("auto"));
-    backend_ = options.value("backend", std::string("auto"));
+    antialias_ = url_choice(options, "antialias", {"auto", "on", "off"});
+    backend_ = url_choice(options, "backend", {"auto", "cpu", "gpu"});
     std::filesystem::create_directories(kFiles);
     init_gl();
     editor::EditorOptions editor_options;

@@ -3,6 +3,7 @@
 // ?backend=gpu asks for the GPU path; there it draws without multisampling (each
 // sample would be shaded on the CPU) unless ?antialias=on asks. Once the deformation has stopped the page
 // draws no frames; the pointer over the view draws again, then it stops again.
+// An unknown ?antialias= or ?backend= is reported in the page's log, its default taken.
 import { openPage, check } from './harness.mjs';
 
 const software = /swiftshader|llvmpipe|software|softpipe/i;
@@ -52,6 +53,20 @@ try {
   check(errors.length === 0, 'no console errors' + (errors.length ? ': ' + errors.join(' | ') : ''));
 } finally {
   await close();
+}
+
+{
+  // An unknown value of a URL option is reported, and its default taken.
+  const { page, log, close } = await openPage('?antialias=sometimes&backend=fast');
+  try {
+    const s = await page.evaluate(() => window.vfsd.state());
+    for (const [name, list, taken] of [['antialias', 'auto, on, off', 'auto'], ['backend', 'auto, cpu, gpu', 'auto']])
+      check(log.some((l) => l.includes(`?${name}=`) && l.includes(`expected one of ${list}; ${taken} taken`)),
+            `?${name}= with an unknown value is reported, ${taken} taken`);
+    check(!s.multisampled, 'the default antialias on a software renderer: not multisampled');
+  } finally {
+    await close();
+  }
 }
 
 {
