@@ -237,8 +237,6 @@ public:
     // The median of step_milliseconds(): robust to a slow first step.
     double ms_per_step() const;
     const char* backend_name() const { return backend_->name(); }
-    // StepBackend::asynchronous: the steps run on a device (the GPU).
-    bool asynchronous() const { return backend_->asynchronous(); }
     void finish() const { backend_->finish(); }
     std::optional<DeviceVertices> device_vertices() const { return backend_->device_vertices(); }
     FoldRepairStats fold_repairs() const { return backend_->fold_repairs(); }

@@ -171,8 +171,6 @@ public:
     // The longest time any of the current run's last eight steps took (its
     // pieces together), in milliseconds; 0 before a step.
     double longest_recent_step_ms() const;
-    // Whether the deformation's steps run on the GPU (Deformation::asynchronous).
-    bool steps_on_gpu() const { return deformation_ && deformation_->asynchronous(); }
     // Bakes the deformed mesh as the new base (one undo step) and sets the target
     // to 0. No-op at t = 0. Its undo restores the base and sets the target back to
     // the time it was applied at (update() plays there again); redo applies again.
