@@ -277,6 +277,34 @@ TEST_CASE("a GPU step run in pieces is the step run whole", "[gpu][editor]") {
     const double worst = test::max_distance(plain.positions(), retargeted.positions());
     INFO("largest distance from the run without the unused try: " << worst / size << " of the size");
     CHECK(worst < 10.0 * kSceneTolerance * size);
+
+    // The first step's try left after one piece (∇r at the start issued) or two
+    // (∇r at the predicted middle issued), the next advance taking a shorter
+    // step: the first leaves what the step recomputes (the same bits), the
+    // second ∇r as a rejected try does.
+    Deformation first_plain = on_gpu(p);
+    while (first_plain.prepare_first_step()) {
+    }
+    first_plain.advance(0.02);
+    first_plain.advance(1.0);
+    for (const int pieces : {1, 2}) {
+        INFO(pieces << " pieces of the first step prepared toward t = 1");
+        Deformation d = on_gpu(p);
+        while (d.prepare_first_step()) {
+        }
+        for (int done = 0; done < pieces;) {
+            const StepPiece piece = d.prepare_step(1.0);
+            if (piece == StepPiece::none) FAIL("no piece left to prepare");
+            done += piece == StepPiece::done;
+        }
+        d.advance(0.02);
+        d.advance(1.0);
+        REQUIRE(d.time() == 1.0);
+        if (pieces == 1)
+            CHECK(d.positions() == first_plain.positions());
+        else
+            CHECK(test::max_distance(d.positions(), first_plain.positions()) < 10.0 * kSceneTolerance * size);
+    }
 }
 
 // Through the editor's frames: with no split limit every GPU step after the

@@ -267,11 +267,15 @@ private:
         double span = 0.0;                      // the time from those to the step's middle
     };
 
-    // The try of this step, begun now or earlier (prepare_step); one of another
-    // step, begun and not taken, is dropped with its staged move.
+    // The try of this step, begun now or earlier (prepare_step). One of another
+    // step, begun and not taken, is dropped with its staged move; the ∇r it
+    // estimated stays, as a rejected try's does, and so the gauge's fit to it
+    // is read (else the next try would predict with a gauge of other ∇r, or,
+    // at the first step, with none).
     Try& try_for(double time, double h, double max_error) {
         if (try_ && try_->time == time && try_->h == h && try_->max_error == max_error) return *try_;
         if (try_ && try_->stage == Stage::move_issued) passes().discard_step();
+        if (try_ && (try_->stage == Stage::start_issued || try_->stage == Stage::estimate_issued)) fit_gauge();
         try_.emplace();
         try_->time = time, try_->h = h, try_->max_error = max_error;
         return *try_;
