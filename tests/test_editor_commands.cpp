@@ -15,11 +15,13 @@
 #include "editor/commands.h"
 #include "editor/editor.h"
 #include "editor/page_api.h"
+#include "test_editor_support.h"
 #include "test_io_support.h"
 
 using namespace vfsd;
 using namespace vfsd::editor;
 using nlohmann::json;
+using vfsd::test::run_to_target;
 
 namespace {
 
@@ -424,4 +426,42 @@ TEST_CASE("Frames: steps longer than the split limit run in pieces over frames, 
     CHECK(split.frames_without_time <= whole.frames_without_time + 3 * (steps - 1));
     // A budget that fits many pieces packs them into few frames.
     CHECK(packed.frames < whole.frames);
+}
+
+TEST_CASE("Frames: a pick's region is computed over frames the editor stays busy for, as at once", "[editor][frames]") {
+    // A budget of 0 gives each frame one iteration of the blend's solve. The
+    // pick's frame (the command) computes only which vertices move; the frames
+    // after it the blend's values, and then the run to the target.
+    test::ScratchDir dir;
+    TestShell shell;
+    EditorOptions options = ShellEditor::options(dir);
+    options.step_budget_ms = options.max_frame_ms = 0.0;
+    Editor editor(shell, {}, "no GPU in this test", options);
+    editor.command("load", {{"path", "builtin:sphere:3"}});
+    EditorSession at_once;
+    at_once.open_mesh("builtin:sphere:3");
+    for (const double target : {0.0, 0.4}) {
+        INFO("target " << target);
+        editor.session().set_target_time(target);
+        at_once.set_target_time(target);
+        while (editor.busy()) editor.advance();
+        run_to_target(at_once);
+        editor.command("pick", {{"vertex", 40}, {"g_min", 0.2}, {"g_max", 0.9}});
+        at_once.pick_geodesic(40, 0.2, 0.9);
+        CHECK(editor.session().region_pending());
+        CHECK(editor.busy());
+        int frames = 0;
+        while (editor.session().region_pending()) {
+            editor.advance();
+            ++frames;
+            CHECK(editor.session().time() == 0.0);  // no step before the region is built
+        }
+        CHECK(frames > 3);
+        CHECK(editor.draw_due());  // the region's final s is drawn
+        CHECK(editor.session().s() == at_once.s());
+        while (editor.busy()) editor.advance();
+        run_to_target(at_once);
+        CHECK(editor.session().time() == target);
+        CHECK(editor.session().positions() == at_once.positions());
+    }
 }

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <random>
 
 #include "base/error.h"
 #include "deform/cpu_steps.h"
@@ -402,4 +403,77 @@ TEST_CASE("EditorSession: a curve edit's run starts from the last run's rest sta
     run_to_target(session);
     REQUIRE(session.deformation()->cpu_rest() != nullptr);
     CHECK(session.deformation()->cpu_rest() != rest);
+}
+
+// Generated edits on generated meshes: picks at random vertices with random
+// ranges, and strokes of the inner brush, each followed by an undo or not.
+TEST_CASE(
+    "EditorSession: a region computed in parts shows the same regions at once and deforms as one computed at once",
+    "[editor][session][region]") {
+    std::mt19937 random(23);
+    std::uniform_real_distribution<double> fraction(0.0, 1.0);
+    for (const char* mesh : {"builtin:sphere:3", "builtin:box:8"}) {
+        EditorSession at_once, in_parts;
+        in_parts.set_regions_in_parts(true);
+        at_once.open_mesh(mesh);
+        in_parts.open_mesh(mesh);
+        REQUIRE_FALSE(in_parts.region_pending());  // an open builds its region at once
+        const double diagonal = at_once.diagonal();
+        for (int edit = 0; edit < 6; ++edit) {
+            INFO(mesh << ", edit " << edit);
+            const auto vertex = std::uint32_t(fraction(random) * double(at_once.base_positions().size() - 1));
+            const std::uint64_t document = in_parts.document_revision();
+            if (edit % 3 == 2) {
+                BrushSettings brush;
+                brush.radius = (0.05 + 0.1 * fraction(random)) * diagonal;
+                const SurfacePoint at =
+                    surface_point_at_vertex(at_once.triangles(), at_once.base_positions().size(), vertex);
+                at_once.brush(at, brush);
+                in_parts.brush(at, brush);
+            } else {
+                const double g_min = (0.05 + 0.1 * fraction(random)) * diagonal;
+                const double g_max = g_min + (0.1 + 0.3 * fraction(random)) * diagonal;
+                at_once.pick_geodesic(vertex, g_min, g_max);
+                in_parts.pick_geodesic(vertex, g_min, g_max);
+            }
+            if (edit % 2 == 1) {
+                REQUIRE(in_parts.region_pending());
+                at_once.undo();
+                in_parts.undo();
+            }
+            // The edit is in the document, and which vertices move shows at once, the
+            // curve following the inner region as it does at once.
+            CHECK(in_parts.document_revision() != document);
+            CHECK(in_parts.region_pending());
+            CHECK(in_parts.current_scene().region.kind == at_once.current_scene().region.kind);
+            CHECK(in_parts.curve() == at_once.curve());
+            for (std::size_t v = 0; v < at_once.s().size(); ++v) {
+                REQUIRE((in_parts.s()[v] <= 0.0) == (at_once.s()[v] <= 0.0));
+                REQUIRE((in_parts.s()[v] >= 1.0) == (at_once.s()[v] >= 1.0));
+            }
+            // The blend's values come a part at a time, whatever the target; then the
+            // view is told (the revision), the document is not.
+            const std::uint64_t shown = in_parts.revision(), saved = in_parts.document_revision();
+            int parts = 0;
+            while (in_parts.region_pending()) {
+                REQUIRE(in_parts.prepare_run(0.0));
+                ++parts;
+            }
+            CHECK(parts > 1);
+            CHECK(in_parts.s() == at_once.s());
+            CHECK(in_parts.revision() != shown);
+            CHECK(in_parts.document_revision() == saved);
+            CHECK(in_parts.warnings() == at_once.warnings());
+        }
+        // A run started while the region is pending computes it first: the same steps.
+        at_once.pick_geodesic(0, 0.1 * diagonal, 0.3 * diagonal);
+        in_parts.pick_geodesic(0, 0.1 * diagonal, 0.3 * diagonal);
+        REQUIRE(in_parts.region_pending());
+        at_once.set_target_time(0.5);
+        in_parts.set_target_time(0.5);
+        run_to_target(at_once);
+        run_to_target(in_parts);
+        CHECK_FALSE(in_parts.region_pending());
+        CHECK(in_parts.positions() == at_once.positions());
+    }
 }

@@ -9,10 +9,12 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "base/error.h"
 #include "mesh/geometry.h"
 #include "mesh/vertex_rings.h"
 #include "region/harmonic_blend.h"
 #include "region/region_field.h"
+#include "region/selectors.h"
 #include "scene/prepared_scene.h"
 #include "test_region_meshes.h"
 
@@ -177,4 +179,71 @@ TEST_CASE("a scene's region profile: harmonic by default, eqs. (15) and (16) as 
     CHECK(parse_scene(j, ".").region.profile == RegionSpec::Profile::harmonic);
     j["region"]["profile"] = "smooth";
     CHECK_THROWS_WITH(parse_scene(j, "scene.json"), Catch::Contains("region.profile"));
+}
+
+// Generated regions: geodesic ones around a random seed with random thresholds,
+// and painted ones between the far parts of the mesh along a random direction,
+// with and without a band, on the sphere and the grid.
+TEST_CASE("a region built in parts, one iteration a part, is the region built at once, bit for bit",
+          "[region][harmonic][scene]") {
+    std::mt19937 random(17);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), fraction(0.0, 1.0);
+    const std::vector<TriangleMesh> meshes = {icosphere(3, 1.0), grid_mesh(30, 2.0)};
+    for (int trial = 0; trial < 12; ++trial) {
+        const TriangleMesh& m = meshes[trial % 2];
+        const VertexRings rings = build_vertex_rings(m);
+        const double diagonal = bounding_box(m.positions).diagonal();
+        RegionSpec spec;
+        const Vec3 seed = m.positions[std::size_t(fraction(random) * double(m.positions.size() - 1))];
+        if (trial % 4 < 2) {
+            spec.kind = RegionSpec::Kind::geodesic;
+            spec.seed = seed;
+            spec.g_min = (0.05 + 0.15 * fraction(random)) * diagonal;
+            spec.g_max = spec.g_min + (0.1 + 0.4 * fraction(random)) * diagonal;
+        } else {
+            spec.kind = RegionSpec::Kind::painted;
+            const Vec3 n = glm::normalize(Vec3(unit(random), unit(random), unit(random)));
+            double lo = 1e300, hi = -1e300;
+            for (const Vec3& p : m.positions) lo = std::min(lo, glm::dot(n, p)), hi = std::max(hi, glm::dot(n, p));
+            const double inner_from = lo + (0.6 + 0.3 * fraction(random)) * (hi - lo);
+            const double outer_to = lo + (0.1 + 0.3 * fraction(random)) * (hi - lo);
+            spec.inner = {Selector{SelectorKind::halfspace, n, Vec3(0.0), inner_from, {}}};
+            spec.outer = {Selector{SelectorKind::halfspace, -n, Vec3(0.0), -outer_to, {}}};
+            spec.band = trial % 3 == 0 ? 0.1 * diagonal : 0.0;
+        }
+        INFO("trial " << trial);
+        std::vector<std::string> at_once_warnings, in_parts_warnings;
+        const std::vector<double> at_once = build_region(spec, m.positions, rings, at_once_warnings).s;
+
+        RegionBuild build(spec, m.positions, rings);
+        const std::vector<double> first = build.s();
+        int parts = 1;
+        while (!build.advance(0.0)) {
+            ++parts;
+            // Meanwhile which vertices are inner, blend and outer is final.
+            for (std::size_t v = 0; v < first.size(); v += 7) {
+                REQUIRE((build.s()[v] <= 0.0) == (at_once[v] <= 0.0));
+                REQUIRE((build.s()[v] >= 1.0) == (at_once[v] >= 1.0));
+            }
+        }
+        CHECK(parts > 3);
+        CHECK(build.take(in_parts_warnings).s == at_once);
+        CHECK(in_parts_warnings == at_once_warnings);
+        for (std::size_t v = 0; v < first.size(); ++v) {
+            REQUIRE((first[v] <= 0.0) == (at_once[v] <= 0.0));
+            REQUIRE(in_blend(first[v]) == in_blend(at_once[v]));
+        }
+    }
+}
+
+TEST_CASE("a region build throws at once for what build_region rejects", "[region][harmonic][scene]") {
+    const TriangleMesh m = icosphere(2, 1.0);
+    const VertexRings rings = build_vertex_rings(m);
+    RegionSpec spec;
+    spec.kind = RegionSpec::Kind::geodesic;
+    spec.g_min = 0.5, spec.g_max = 0.2;
+    CHECK_THROWS_AS(RegionBuild(spec, m.positions, rings), InputError);
+    spec.kind = RegionSpec::Kind::field;
+    spec.s.assign(3, 0.5);
+    CHECK_THROWS_AS(RegionBuild(spec, m.positions, rings), InputError);
 }

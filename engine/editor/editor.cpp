@@ -25,6 +25,7 @@ Editor::Editor(Shell& shell, DeformationFactory gpu, const std::string& gpu_reas
       autosave_(options.autosave_directory, options.autosave_seconds),
       pacer_(options.step_budget_ms, options.max_frame_ms) {
     settings_.force_cpu = options.force_cpu;
+    session_->set_regions_in_parts(true);  // a pick or a stroke does not hold up its frame
 }
 
 CommandContext Editor::context() { return {*session_, tools_, camera_, settings_, shell_.viewport(), *this}; }
@@ -165,27 +166,30 @@ void Editor::advance() {
     const auto now = [] {
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
     };
-    const FramePacer::Plan plan = pacer_.plan(now(), session_->moving(), shell_.keeps_image(), shell_.renderer_busy());
+    const bool working = session_->moving() || session_->region_pending();
+    const FramePacer::Plan plan = pacer_.plan(now(), working, shell_.keeps_image(), shell_.renderer_busy());
     integrate_for(plan.integrate_ms);
     // While an edit's run keeps the last result on show, the shape drawn does not
     // change: a shell that keeps its image (the page) has nothing new to draw
     // until the run ends, unless it changed something itself (the camera, the
     // dragged curve). Its draws would take the renderer from the GPU's steps.
     const bool same_image = shell_.keeps_image() && session_->holding_result();
-    draw_due_ = (plan.draw && !same_image) || !session_->moving();  // the last step is always drawn
+    // The last step is always drawn, and a region's final s.
+    draw_due_ = (plan.draw && !same_image) || !(session_->moving() || session_->region_pending());
     pacer_.integrated(now(), draw_due_);
     if (autosave_.maybe_save(*session_)) shell_.autosaved();
 }
 
-// Integrates toward the target for about `budget_ms`. A new deformation is
-// prepared in a frame of its own; a run starts with one step, which no earlier
+// Integrates toward the target for about `budget_ms`. The region an edit left to
+// compute takes the frames' budgets first; a new deformation is prepared in a
+// frame of its own; a run starts with one step, which no earlier
 // rate predicts (the first also estimates ∇r at the start); the rest of the frame
 // is filled at the rate measured so far, so no frame takes much longer than the
 // budget plus one step. Steps are the same whatever their grouping. update() ends
 // with the stats' read-back, so the GPU's work is in the time.
 void Editor::integrate_for(double budget_ms) {
     waiting_on_gpu_ = false;
-    if (session_->prepare_run()) {
+    if (session_->prepare_run(budget_ms)) {
         moving_ = false;
         step_so_far_ms_ = 0.0;
         return;

@@ -141,8 +141,9 @@ public:
     void renderer_finished(double ms) { pacer_.renderer_finished(ms); }
     // What to paint over the scene; `pointer` hovers over the view (none: over a panel or outside).
     Overlay overlay(std::optional<glm::dvec2> pointer) const;
-    // Frames must follow each other: the deformation moves or a script runs.
-    bool busy() const { return session_->moving() || (script_ && !script_->done()); }
+    // Frames must follow each other: the deformation moves, a region is computed
+    // (EditorSession::region_pending) or a script runs.
+    bool busy() const { return session_->moving() || session_->region_pending() || (script_ && !script_->done()); }
     // Whether the last frame ended waiting for the GPU to finish a step's passes
     // (steps in pieces): a shell may let the next frame come a little later.
     bool waiting_on_gpu() const { return waiting_on_gpu_; }

@@ -145,7 +145,8 @@ json page_state(const Editor& editor, const PageInfo& page) {
             {"multisampled", page.multisampled},
             {"target_time", s.target_time()},
             {"moving", s.moving()},
-            {"holding", s.holding_result()},  // the last result on show while an edit's run catches up
+            {"holding", s.holding_result()},         // the last result on show while an edit's run catches up
+            {"region_pending", s.region_pending()},  // an edit's s still computed in parts
             {"time_text", time_stat_text(s)},
             {"tool", tool_name(tools.tool)},
             {"radius", tools.brush.radius},

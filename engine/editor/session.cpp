@@ -234,6 +234,7 @@ void EditorSession::replace_document(Document doc) {
     doc_ = std::move(doc);
     motion_ = std::move(motion);
     region_ = std::move(region);
+    region_build_.reset();
     region_warnings_ = std::move(region_warnings);
     history_.clear();
     region_gesture_ = curve_gesture_ = false;
@@ -264,7 +265,7 @@ void EditorSession::changed(unsigned what) {
     if (what & motion_edited) ++curve_revision_;
     if (what & positions_moved) ++positions_revision_;
     // What the view uploads and draws: positions(), s() and the curve.
-    if (what & (positions_moved | region_edited | motion_edited)) ++revision_;
+    if (what & (positions_moved | region_edited | region_built | motion_edited)) ++revision_;
     // What save_scene() writes; time advancing toward the target is not a change.
     if (what & (base_moved | region_edited | motion_edited | target_moved | view_set)) ++document_revision_;
 }
@@ -279,7 +280,8 @@ void EditorSession::save_scene(const std::string& path, InputMesh input) const {
     write_scene_package(path, current_scene(), input, doc_.baked ? &doc_.file.mesh : nullptr);
 }
 
-void EditorSession::export_mesh(const std::string& path) const {
+void EditorSession::export_mesh(const std::string& path) {
+    compute_region(kToTheEnd);
     TriangleMesh result = doc_.file.mesh;
     result.positions = positions();
     result.scalar = region_.s;
@@ -311,19 +313,38 @@ RegionSpec EditorSession::region_spec() const {
     return doc_.region.spec;
 }
 
+// Eq. (15) or (16) at once (it throws for a region that cannot be built); the
+// harmonic blend then too, or in parts when the editor asked for them
+// (compute_region, from prepare_run).
 void EditorSession::region_changed() {
-    std::vector<std::string> warnings;
-    region_ = build_region(region_spec(), doc_.file.mesh.positions, doc_.rings, warnings);
-    region_warnings_ = std::move(warnings);
+    region_build_.emplace(region_spec(), doc_.file.mesh.positions, doc_.rings);
+    if (!regions_in_parts_) take_built_region(kToTheEnd);
     restart_after_edit();
     changed(region_edited);
     refresh_curve_warnings();
 }
 
+bool EditorSession::take_built_region(double budget_ms) {
+    if (!region_build_ || !region_build_->advance(budget_ms)) return false;
+    std::vector<std::string> warnings;
+    region_ = region_build_->take(warnings);
+    region_build_.reset();
+    region_warnings_ = std::move(warnings);
+    return true;
+}
+
+void EditorSession::compute_region(double budget_ms) {
+    if (!take_built_region(budget_ms)) return;
+    changed(region_built);
+    refresh_curve_warnings();
+}
+
+const std::vector<double>& EditorSession::s() const { return region_build_ ? region_build_->s() : region_.s; }
+
 void EditorSession::set_region(const RegionSource& next, const RegionEdit& paint, const std::string& label) {
     const RegionSource before = doc_.region;
     const MotionSpec motion_before = doc_.scene.motion;
-    const std::vector<double> s_before = region_.s;
+    const std::vector<double> s_before = s();
     doc_.region = next;
     ::vfsd::apply_edit(doc_.paint, paint);
     try {
@@ -339,7 +360,7 @@ void EditorSession::set_region(const RegionSource& next, const RegionEdit& paint
         for (std::size_t v = 0; v < s.size(); ++v) in[v] = s[v] <= 0.0;
         return in;
     };
-    if (inner(region_.s) != inner(s_before)) follow_inner_region();
+    if (inner(s()) != inner(s_before)) follow_inner_region();
     if (region_gesture_) {
         accumulate(pending_region_.paint, paint);
         region_gesture_changed_ = true;
@@ -356,7 +377,7 @@ void EditorSession::follow_inner_region() {
     std::vector<Vec3> normals;
     vertex_normals(doc_.file.mesh.positions, doc_.rings, normals);
     MotionSpec next = doc_.scene.motion;
-    next.curve.bezier = curve_on_region(next.curve.bezier, doc_.file.mesh.positions, normals, region_.s);
+    next.curve.bezier = curve_on_region(next.curve.bezier, doc_.file.mesh.positions, normals, s());
     if (next == doc_.scene.motion) return;
     doc_.scene.motion = next;
     curve_changed();
@@ -383,7 +404,7 @@ RegionSource EditorSession::clean_labels(RegionEdit& paint) const {
     RegionSource labels;
     labels.kind = RegionSource::Kind::labels;
     labels.band = region_band();
-    paint = diff_edit(RegionChannel::labels, labels_as_values(doc_.paint), std::vector<double>(region_.s.size(), 0.0));
+    paint = diff_edit(RegionChannel::labels, labels_as_values(doc_.paint), std::vector<double>(s().size(), 0.0));
     return labels;
 }
 
@@ -439,6 +460,7 @@ void EditorSession::brush(const SurfacePoint& centre, const BrushSettings& b) {
     // Painting s starts from the field on screen; painting labels starts clean, so
     // no label the user did not paint hides in the region (only the band is kept).
     if (b.tool == BrushTool::paint_s && next.kind != RegionSource::Kind::field) {
+        compute_region(kToTheEnd);
         total = diff_edit(RegionChannel::s, paint.s, region_.s);
         next.kind = RegionSource::Kind::field;
     } else if (b.tool != BrushTool::paint_s && next.kind != RegionSource::Kind::labels) {
@@ -555,15 +577,15 @@ void EditorSession::use_handle(const HandleFrame& from, const HandleFrame& to) {
 
 void EditorSession::refresh_curve_warnings() {
     curve_warnings_.clear();
-    if (motion_.is_fixed_rotation() || region_.s.empty()) return;
+    if (motion_.is_fixed_rotation() || s().empty()) return;
     if (motion_.curve().polygon_length() == 0.0) {
         curve_warnings_.push_back("curve: all control points coincide, so nothing moves");
         return;
     }
     const std::uint32_t v = nearest_vertex(doc_.file.mesh.positions, motion_.curve().at(0.0).position);
-    if (region_.s[v] > 0.0)
-        curve_warnings_.push_back("curve: c(0) does not start in the inner region (s = " +
-                                  std::to_string(region_.s[v]) + " at the nearest vertex)");
+    if (s()[v] > 0.0)
+        curve_warnings_.push_back("curve: c(0) does not start in the inner region (s = " + std::to_string(s()[v]) +
+                                  " at the nearest vertex)");
 }
 
 // ---- time --------------------------------------------------------------------
@@ -652,6 +674,7 @@ void EditorSession::base_moved_stats() {
 
 void EditorSession::ensure_deformation() {
     if (deformation_) return;
+    compute_region(kToTheEnd);
     PreparedScene prepared = prepare_scene(current_scene(), doc_.file, doc_.rings, region_);
     std::string reason = force_cpu_ ? "CPU chosen" : gpu_reason_;
     if (gpu_ && !force_cpu_) {
@@ -690,7 +713,11 @@ int EditorSession::update(int max_steps) {
     return taken;
 }
 
-bool EditorSession::prepare_run() {
+bool EditorSession::prepare_run(double budget_ms) {
+    if (region_build_) {
+        run_step([&] { compute_region(budget_ms); });
+        return true;
+    }
     if (time() == target_time()) return false;
     bool prepared = true;
     run_step([&] {

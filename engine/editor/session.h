@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -106,7 +107,7 @@ public:
     Scene current_scene() const;
     void save_scene(const std::string& path, InputMesh input = InputMesh::referenced) const;
     // The mesh at the current time in the input file's layout (.obj .ply .glb .off).
-    void export_mesh(const std::string& path) const;
+    void export_mesh(const std::string& path);
 
     // Region tools. Outside a gesture each call is one undo step; inside
     // begin_region_gesture / end_region_gesture all calls make one step (a stroke,
@@ -146,6 +147,14 @@ public:
     // Handle mode with the handle at `at` (normal along the surface normal there).
     void use_handle(const HandleFrame& from, const HandleFrame& to);
 
+    // The region's s after an edit: at once (the default), or in parts: the edit
+    // computes which vertices are inner, blend and outer (eq. 15 or 16), and
+    // prepare_run() the blend's values, for about its budget a call, the view
+    // showing the first values meanwhile. The editors ask for parts, so that a
+    // pick or a stroke does not hold up a frame; scripts and tests need not.
+    void set_regions_in_parts(bool in_parts) { regions_in_parts_ = in_parts; }
+    bool region_pending() const { return region_build_.has_value(); }
+
     // Time. The deformation integrates toward the target in update(); an edit of
     // the region or curve restarts it from t = 0 (the target stays).
     void set_target_time(double t);
@@ -158,12 +167,14 @@ public:
     // Takes at most `max_steps` steps toward the target; returns how many.
     int update(int max_steps);
     // Prepares what a run toward the target needs before its first step, one part
-    // per call, so that an editor can give each a frame of its own: the
-    // deformation (the region's parts, the mesh reordered, ...) when none is
+    // per call, so that an editor can give each a frame of its own: the region
+    // an edit left to compute (for about `budget_ms`, while region_pending(),
+    // whatever the target), the deformation (the region's parts, the mesh reordered, ...) when none is
     // ready, then what the first step needs (Deformation::prepare_first_step).
     // True when it did some (or failed to: the error is in warnings() and the run
     // stops, as update()'s); false once the run can step.
-    bool prepare_run();
+    bool prepare_run(double budget_ms = kToTheEnd);
+    static constexpr double kToTheEnd = std::numeric_limits<double>::infinity();
     // A piece of the next step toward the target (Deformation::prepare_step),
     // which the next update() completes; none where none is left to prepare,
     // waiting where the GPU is still running the last piece.
@@ -191,7 +202,9 @@ public:
     const std::vector<Vec3>& base_positions() const { return doc_.file.mesh.positions; }
     const std::vector<Triangle>& triangles() const { return doc_.file.mesh.triangles; }
     const VertexRings& rings() const { return doc_.rings; }
-    const std::vector<double>& s() const { return region_.s; }
+    // s so far: while region_pending(), which vertices are inner, blend and outer
+    // is final, and the blend's values are eq. (15)'s or (16)'s.
+    const std::vector<double>& s() const;
     const RegionSource& region() const { return doc_.region; }
     const RegionPaint& paint() const { return doc_.paint; }
     // The curve (or handle) and its settings: the scene's motion, as set_curve takes it.
@@ -253,12 +266,17 @@ private:
         target_moved = 1u << 4,     // the target time
         positions_moved = 1u << 5,  // positions() moved: steps taken, or back to the base
         view_set = 1u << 6,         // how the scene is shown (its up axis)
+        region_built = 1u << 7,     // s's final values, computed in parts after a region edit
     };
     void changed(unsigned what);
 
     void replace_document(Document doc);
     RegionSpec region_spec() const;
     void region_changed();
+    // Moves the region being built into region_ once it is built (advancing it for
+    // about `budget_ms` first); true when it did. compute_region also says so.
+    bool take_built_region(double budget_ms);
+    void compute_region(double budget_ms);
     void curve_changed();
     void refresh_curve_warnings();
     void set_region(const RegionSource& next, const RegionEdit& paint, const std::string& label);
@@ -286,6 +304,9 @@ private:
 
     Document doc_;
     Region region_;  // s per vertex (sec. 6), for the document's region and base positions
+    // The region an edit left to compute in parts (set_regions_in_parts); region_ is then the last one's.
+    std::optional<RegionBuild> region_build_;
+    bool regions_in_parts_ = false;
     std::vector<std::uint32_t> folded_;
     std::vector<std::string> region_warnings_, curve_warnings_;
     std::string runtime_error_, autosave_warning_;

@@ -18,7 +18,10 @@
 // the solution obeys the maximum principle on any mesh (an obtuse triangle
 // cannot push s out of [0, 1]).
 
+#include <cstdint>
 #include <vector>
+
+#include <Eigen/SparseCore>
 
 #include "mesh/vertex_rings.h"
 
@@ -31,5 +34,35 @@ namespace vfsd {
 // its vertices. A blend vertex with no path to a fixed vertex keeps its value.
 std::vector<double> harmonic_blend(const std::vector<Vec3>& positions, const VertexRings& rings,
                                    std::vector<double> s);
+
+// The same solve in parts, for an editor that spreads it over frames: the
+// constructor sets up the system, each iterate() runs its conjugate-gradient
+// iterations for about a budget. The result is harmonic_blend's, bit for bit,
+// however the iterations fall into parts (harmonic_blend is this, run to the end).
+class HarmonicBlend {
+public:
+    HarmonicBlend(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<double> s);
+    // Iterates for about `budget_ms` (at least one iteration; infinity: to the end).
+    // True once s is final.
+    bool iterate(double budget_ms);
+    bool done() const { return done_; }
+    // s: final once done(), the starting values before.
+    const std::vector<double>& s() const { return s_; }
+    std::vector<double> take() { return std::move(s_); }
+
+private:
+    void finish();
+
+    std::vector<double> s_;
+    std::vector<std::uint32_t> unknowns_;  // the blend vertices solved for, in the system's order
+    Eigen::SparseMatrix<double> laplacian_;
+    // Jacobi-preconditioned conjugate gradients (as Eigen's ConjugateGradient,
+    // whose state lives only inside one call): the iterate, the residual, the
+    // search direction, the inverse diagonal, and r·z.
+    Eigen::VectorXd x_, rhs_, residual_, direction_, inverse_diagonal_;
+    double rz_ = 0.0, threshold_ = 0.0;
+    long iterations_ = 0, max_iterations_ = 0;
+    bool done_ = false;
+};
 
 }  // namespace vfsd

@@ -1,6 +1,8 @@
 #include "scene/prepared_scene.h"
 
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "base/error.h"
@@ -80,37 +82,55 @@ void prepare_motion(PreparedScene& p) {
 
 Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, const VertexRings& rings,
                     std::vector<std::string>& warnings) {
-    Region region;
+    RegionBuild build(spec, positions, rings);
+    build.advance(std::numeric_limits<double>::infinity());
+    return build.take(warnings);
+}
+
+RegionBuild::RegionBuild(const RegionSpec& spec, const std::vector<Vec3>& positions, const VertexRings& rings) {
     switch (spec.kind) {
         case RegionSpec::Kind::painted: {
             RegionField field = painted_region_field(positions, rings, select_vertices(positions, spec.inner),
                                                      select_vertices(positions, spec.outer), spec.geodesic, spec.band);
-            warnings.insert(warnings.end(), field.warnings.begin(), field.warnings.end());
-            region.s = std::move(field.s);
+            warnings_ = std::move(field.warnings);
+            region_.s = std::move(field.s);
             break;
         }
         case RegionSpec::Kind::geodesic:
-            region.s = geodesic_level_field(positions, rings, nearest_vertex(positions, spec.seed), spec.g_min,
-                                            spec.g_max, spec.geodesic);
+            region_.s = geodesic_level_field(positions, rings, nearest_vertex(positions, spec.seed), spec.g_min,
+                                             spec.g_max, spec.geodesic);
             break;
         case RegionSpec::Kind::implicit:
-            region.sphere_tool = spec.sphere;
-            region.s = sphere_tool_field(spec.sphere, positions);
+            region_.sphere_tool = spec.sphere;
+            region_.s = sphere_tool_field(spec.sphere, positions);
             break;
         case RegionSpec::Kind::field:
             if (spec.s.size() != positions.size())
                 throw InputError("region.s: " + std::to_string(spec.s.size()) + " values for a mesh of " +
                                  std::to_string(positions.size()) + " vertices");
-            region.s = spec.s;
+            region_.s = spec.s;
             break;
     }
     // Eqs. (15) and (16) give the inner and outer regions; between them s is the
     // harmonic interpolation unless the scene asks for the geodesic profile.
     const bool painted_or_geodesic = spec.kind == RegionSpec::Kind::painted || spec.kind == RegionSpec::Kind::geodesic;
     if (painted_or_geodesic && spec.profile == RegionSpec::Profile::harmonic)
-        region.s = harmonic_blend(positions, rings, std::move(region.s));
-    warn_about_region(region, warnings);
-    return region;
+        blend_.emplace(positions, rings, std::move(region_.s));
+}
+
+bool RegionBuild::advance(double budget_ms) {
+    if (blend_ && blend_->iterate(budget_ms)) {
+        region_.s = blend_->take();
+        blend_.reset();
+    }
+    return built();
+}
+
+Region RegionBuild::take(std::vector<std::string>& warnings) {
+    if (!built()) throw std::logic_error("RegionBuild::take before the region is built");
+    warn_about_region(region_, warnings_);
+    warnings.insert(warnings.end(), warnings_.begin(), warnings_.end());
+    return std::move(region_);
 }
 
 Deformation PreparedScene::start_deformation() const& {

@@ -3,10 +3,12 @@
 // region field s computed (sec. 6), the motion built (sec. 4.2, 6.2), and the
 // warnings a user should see before starting.
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "io/mesh_file.h"
+#include "region/harmonic_blend.h"
 #include "scene/scene.h"
 
 namespace vfsd {
@@ -28,6 +30,29 @@ struct PreparedScene {
 // to recompute the region on the deformed shape (sec. 3).
 Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, const VertexRings& rings,
                     std::vector<std::string>& warnings);
+
+// build_region in parts, for an editor that spreads the work over frames: the
+// constructor computes eq. (15) or (16) (and throws InputError for what
+// build_region rejects), advance() solves the harmonic blend for about a budget
+// at a time. The region is build_region's, bit for bit, however the parts fall
+// (build_region is this, run to the end).
+class RegionBuild {
+public:
+    RegionBuild(const RegionSpec& spec, const std::vector<Vec3>& positions, const VertexRings& rings);
+    // Works for about `budget_ms` (infinity: to the end); true once the region is built.
+    bool advance(double budget_ms);
+    bool built() const { return !blend_; }
+    // s so far. Which vertices are inner (s <= 0), blend and outer (s >= 1) is
+    // final from the start: the blend changes only the blend vertices' values.
+    const std::vector<double>& s() const { return blend_ ? blend_->s() : region_.s; }
+    // The region and its warnings, once built().
+    Region take(std::vector<std::string>& warnings);
+
+private:
+    Region region_;
+    std::vector<std::string> warnings_;
+    std::optional<HarmonicBlend> blend_;  // while the blend profile is solved
+};
 
 // Reads the scene's mesh (throws InputError / IoError) and prepares everything.
 PreparedScene prepare_scene(const Scene& scene);
