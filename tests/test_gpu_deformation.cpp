@@ -349,6 +349,53 @@ TEST_CASE("Frames: the GPU's steps in pieces end frames while the GPU works, the
     CHECK(split == whole);
 }
 
+// In WebGL the GPU set-up's checks and the steps' read-backs wait for the
+// renderer's last draw. While the shell says that draw is unfinished, the
+// editor's frames leave the GPU alone (no deformation made, no step taken), but
+// go on with a region an edit left to compute; then the run is the one made
+// without the wait.
+TEST_CASE("Frames: while the renderer's last draw is unfinished the GPU is left alone, a region still computed",
+          "[gpu][editor][frames]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    struct DrawingShell final : editor::Shell {
+        Viewport viewport() const override { return {900, 600}; }
+        void log(const std::string&) override {}
+        void screenshot(const std::string&, bool) override {}
+        bool keeps_image() const override { return true; }
+        bool renderer_busy() const override { return busy_frames > 0; }
+        int busy_frames = 0;
+    };
+    const auto run = [](int busy_frames) {
+        DrawingShell shell;
+        test::ScratchDir dir;
+        editor::EditorOptions options;
+        options.autosave_directory = dir.file("autosave");
+        options.step_budget_ms = options.max_frame_ms = 0.0;  // a region: one iteration a frame
+        editor::Editor editor(
+            shell, [](const PreparedScene& p) { return gpu::start_gpu_deformation(p); }, "", options);
+        editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+        editor.session().pick_geodesic(0, 0.1 * editor.session().diagonal(), 0.4 * editor.session().diagonal());
+        editor.session().set_target_time(1.0);
+        REQUIRE(editor.session().region_pending());
+        shell.busy_frames = busy_frames;
+        for (; shell.busy_frames > 0; --shell.busy_frames) {
+            const bool region_left = editor.session().region_pending();
+            editor.advance();
+            CHECK(editor.session().deformation() == nullptr);
+            CHECK(editor.waiting_on_gpu() == !region_left);
+        }
+        if (busy_frames > 0) CHECK_FALSE(editor.session().region_pending());  // computed meanwhile
+        for (int frames = 0; editor.session().moving() && frames < 100000; ++frames) {
+            editor.advance();
+            if (editor.waiting_on_gpu()) glFinish();
+        }
+        CHECK(editor.session().stats().backend == "gpu");
+        CHECK(editor.session().time() == 1.0);
+        return editor.session().positions();
+    };
+    CHECK(run(1000) == run(0));
+}
+
 // A curve edit in the editors makes a new deformation of the same mesh, region
 // and options: with a shelf it takes the set-up the last one left (no parts left
 // to prepare) and makes the same steps, bit for bit, as one set up afresh. A

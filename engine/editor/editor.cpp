@@ -189,6 +189,15 @@ void Editor::advance() {
 // with the stats' read-back, so the GPU's work is in the time.
 void Editor::integrate_for(double budget_ms) {
     waiting_on_gpu_ = false;
+    // The GPU's set-up and steps check for errors and read back, and in WebGL
+    // each waits for the renderer's last draw (on SwiftShader 50-150 ms): while
+    // the shell says that draw is unfinished, the frame leaves the GPU alone. A
+    // region the last edit left to compute is the CPU's work and goes on.
+    if (session_->moving() && !session_->region_pending() && shell_.renderer_busy() &&
+        session_->stats().backend == "gpu") {
+        waiting_on_gpu_ = true;
+        return;
+    }
     if (session_->prepare_run(budget_ms)) {
         moving_ = false;
         step_so_far_ms_ = 0.0;
