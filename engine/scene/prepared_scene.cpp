@@ -1,6 +1,7 @@
 #include "scene/prepared_scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -87,7 +88,8 @@ Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, 
     return build.take(warnings);
 }
 
-RegionBuild::RegionBuild(const RegionSpec& spec, const std::vector<Vec3>& positions, const VertexRings& rings) {
+RegionBuild::RegionBuild(const RegionSpec& spec, const std::vector<Vec3>& positions, const VertexRings& rings)
+    : positions_(positions), rings_(rings) {
     switch (spec.kind) {
         case RegionSpec::Kind::painted: {
             RegionField field = painted_region_field(positions, rings, select_vertices(positions, spec.inner),
@@ -114,14 +116,19 @@ RegionBuild::RegionBuild(const RegionSpec& spec, const std::vector<Vec3>& positi
     // Eqs. (15) and (16) give the inner and outer regions; between them s is the
     // harmonic interpolation unless the scene asks for the geodesic profile.
     const bool painted_or_geodesic = spec.kind == RegionSpec::Kind::painted || spec.kind == RegionSpec::Kind::geodesic;
-    if (painted_or_geodesic && spec.profile == RegionSpec::Profile::harmonic)
-        blend_.emplace(positions, rings, std::move(region_.s));
+    blend_wanted_ = painted_or_geodesic && spec.profile == RegionSpec::Profile::harmonic;
 }
 
 bool RegionBuild::advance(double budget_ms) {
-    if (blend_ && blend_->iterate(budget_ms)) {
+    if (!blend_wanted_) return true;
+    if (!blend_) {
+        blend_.emplace(positions_, rings_, std::move(region_.s));
+        if (std::isfinite(budget_ms)) return false;  // the set-up is a part
+    }
+    if (blend_->iterate(budget_ms)) {
         region_.s = blend_->take();
         blend_.reset();
+        blend_wanted_ = false;
     }
     return built();
 }

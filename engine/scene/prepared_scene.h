@@ -33,15 +33,16 @@ Region build_region(const RegionSpec& spec, const std::vector<Vec3>& positions, 
 
 // build_region in parts, for an editor that spreads the work over frames: the
 // constructor computes eq. (15) or (16) (and throws InputError for what
-// build_region rejects), advance() solves the harmonic blend for about a budget
-// at a time. The region is build_region's, bit for bit, however the parts fall
-// (build_region is this, run to the end).
+// build_region rejects), advance() sets up the harmonic blend's system in a
+// part of its own and then solves it for about a budget at a time. The region
+// is build_region's, bit for bit, however the parts fall (build_region is this,
+// run to the end). `positions` and `rings` must stay as they are until it is built.
 class RegionBuild {
 public:
     RegionBuild(const RegionSpec& spec, const std::vector<Vec3>& positions, const VertexRings& rings);
     // Works for about `budget_ms` (infinity: to the end); true once the region is built.
     bool advance(double budget_ms);
-    bool built() const { return !blend_; }
+    bool built() const { return !blend_wanted_; }
     // s so far. Which vertices are inner (s <= 0), blend and outer (s >= 1) is
     // final from the start: the blend changes only the blend vertices' values.
     const std::vector<double>& s() const { return blend_ ? blend_->s() : region_.s; }
@@ -49,9 +50,12 @@ public:
     Region take(std::vector<std::string>& warnings);
 
 private:
+    const std::vector<Vec3>& positions_;
+    const VertexRings& rings_;
     Region region_;
     std::vector<std::string> warnings_;
-    std::optional<HarmonicBlend> blend_;  // while the blend profile is solved
+    bool blend_wanted_ = false;           // the harmonic profile, until solved
+    std::optional<HarmonicBlend> blend_;  // its system, once set up
 };
 
 // Reads the scene's mesh (throws InputError / IoError) and prepares everything.
