@@ -264,8 +264,8 @@ void EditorSession::changed(unsigned what) {
     if (what & mesh_replaced) ++mesh_revision_;
     if (what & motion_edited) ++curve_revision_;
     if (what & positions_moved) ++positions_revision_;
-    // What the view uploads and draws: positions(), s() and the curve.
-    if (what & (positions_moved | region_edited | region_built | motion_edited)) ++revision_;
+    // What the view uploads: positions() and s() (the curve has its own revision).
+    if (what & (positions_moved | region_edited | region_built)) ++revision_;
     // What save_scene() writes; time advancing toward the target is not a change.
     if (what & (base_moved | region_edited | motion_edited | target_moved | view_set)) ++document_revision_;
 }

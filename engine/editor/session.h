@@ -218,8 +218,10 @@ public:
     // (a SurfacePicker following mesh_revision() and positions_revision()).
     std::optional<SurfaceHit> pick_surface(const Ray& ray) const;
     // Each edit tells changed() (private, below) what it changed; only it bumps these.
-    // Bumped whenever positions() or s() change (the view re-uploads), when the
-    // mesh is replaced (new triangles), and when the curve changes.
+    // Bumped whenever positions() or s() change (the view re-uploads them), and
+    // when the mesh is replaced (new triangles). Not by the curve alone
+    // (curve_revision): a curve edit that keeps the last result on show uploads
+    // nothing, so its frame's draw does not queue behind the GPU's steps.
     std::uint64_t revision() const { return revision_; }
     std::uint64_t mesh_revision() const { return mesh_revision_; }
     // Bumped whenever positions() may change: steps taken, back to the base
