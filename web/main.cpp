@@ -170,12 +170,13 @@ private:
     void pause();
     void resume();
     void autosave_due();
-    void fence_draw();
+    void fence_draw(bool timed);
     void poll_fence();
 
     bool dirty_ = true;    // draw the next frame
-    GLsync fence_ = nullptr;  // set after a draw while the deformation runs, until the GPU finished it
+    GLsync fence_ = nullptr;  // set after each draw, until the GPU finished it
     double fenced_at_ = 0.0;
+    bool fence_timed_ = false;  // the draw came while the deformation ran: its time goes to the pacer
     enum class Timing { animation_frames, timeout, immediate };
     Timing timing_ = Timing::animation_frames;  // how the main loop's next frame is called
     double panel_at_ = 0.0;  // when the page's panel last showed the state (emscripten_get_now)
@@ -306,9 +307,9 @@ void App::resume() {
 // Nothing to draw until wake(); a due autosave wakes the loop once its interval passed.
 void App::pause() {
     paused_ = true;
-    // A draw still unfinished now would be timed across the pause: it is not a draw's cost.
-    if (fence_) glDeleteSync(fence_);
-    fence_ = nullptr;
+    // A draw still unfinished now would be timed across the pause: it is not a
+    // draw's cost. Its fence stays: the next frame's GL work waits for it.
+    fence_timed_ = false;
     emscripten_pause_main_loop();
     const editor::Autosave& autosave = editor_->autosave();
     if (autosave_timer_ || autosave.offer() || !autosave.behind(editor_->session())) return;
@@ -327,17 +328,21 @@ void App::frame() {
     if (lost_) return pause();  // context_restored() wakes it
     poll_fence();
     bool draw = dirty_;
+    // A draw waits for the last one: on a software renderer a draw takes 50-150 ms
+    // of the GPU process, and GL calls made meanwhile (a second draw, the GPU
+    // deformation's set-up) wait for it on the main thread. What changed is drawn
+    // once the renderer is free (dirty_ stays).
     try {
         // While the deformation runs the pacer decides (a costly draw is skipped in
         // some frames); otherwise a frame draws when something changed or the page
         // waits for a frame.
         const bool busy = editor_->busy();
         editor_->advance();
-        draw = draw || (busy ? editor_->draw_due() : waiting_);
+        draw = (draw || (busy ? editor_->draw_due() : waiting_)) && !fence_;
         if (draw) {
             view_.wireframe = editor_->settings().wireframe;
             view_.draw(editor_->session(), editor_->camera(), viewport());
-            if (editor_->busy()) fence_draw();
+            fence_draw(editor_->busy());
         }
     } catch (const std::exception& e) {
         editor_->set_status(e.what());
@@ -377,11 +382,12 @@ void App::frame() {
 
 // WebGL runs the draw in the GPU process; a fence tells when it is done, without
 // waiting (glGetError or a read-back would wait), and that time is the draw's cost.
-void App::fence_draw() {
+void App::fence_draw(bool timed) {
     if (fence_) return;
     fence_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     glFlush();
     fenced_at_ = emscripten_get_now();
+    fence_timed_ = timed;
 }
 
 void App::poll_fence() {
@@ -390,7 +396,7 @@ void App::poll_fence() {
     glGetSynciv(fence_, GL_SYNC_STATUS, 1, nullptr, &status);
     const double ms = emscripten_get_now() - fenced_at_;
     if (status != GL_SIGNALED && ms < 1000.0) return;
-    editor_->renderer_finished(ms);
+    if (fence_timed_) editor_->renderer_finished(ms);
     glDeleteSync(fence_);
     fence_ = nullptr;
 }
