@@ -466,6 +466,13 @@ TEST_CASE(
             CHECK(in_parts.document_revision() == saved);
             CHECK(in_parts.warnings() == at_once.warnings());
         }
+        // A read that must be final computes it to the end.
+        at_once.pick_geodesic(1, 0.15 * diagonal, 0.4 * diagonal);
+        in_parts.pick_geodesic(1, 0.15 * diagonal, 0.4 * diagonal);
+        REQUIRE(in_parts.region_pending());
+        in_parts.finish_region();
+        CHECK_FALSE(in_parts.region_pending());
+        CHECK(in_parts.s() == at_once.s());
         // A run started while the region is pending computes it first: the same steps.
         at_once.pick_geodesic(0, 0.1 * diagonal, 0.3 * diagonal);
         in_parts.pick_geodesic(0, 0.1 * diagonal, 0.3 * diagonal);

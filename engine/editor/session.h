@@ -154,6 +154,8 @@ public:
     // pick or a stroke does not hold up a frame; scripts and tests need not.
     void set_regions_in_parts(bool in_parts) { regions_in_parts_ = in_parts; }
     bool region_pending() const { return region_build_.has_value(); }
+    // Computes a pending region to the end now (a read of s that must be final).
+    void finish_region() { compute_region(kToTheEnd); }
 
     // Time. The deformation integrates toward the target in update(); an edit of
     // the region or curve restarts it from t = 0 (the target stays).
