@@ -431,9 +431,16 @@ TEST_CASE("Frames: steps longer than the split limit run in pieces over frames, 
 TEST_CASE("Frames: a pick's region is computed over frames the editor stays busy for, as at once", "[editor][frames]") {
     // A budget of 0 gives each frame one iteration of the blend's solve. The
     // pick's frame (the command) computes only which vertices move; the frames
-    // after it the blend's values, and then the run to the target.
+    // after it the blend's values, and then the run to the target. A shell that
+    // keeps its image draws only once the region is built.
+    struct ImageShell final : Shell {
+        Viewport viewport() const override { return {900, 600}; }
+        void log(const std::string&) override {}
+        void screenshot(const std::string&, bool) override {}
+        bool keeps_image() const override { return true; }
+    };
     test::ScratchDir dir;
-    TestShell shell;
+    ImageShell shell;
     EditorOptions options = ShellEditor::options(dir);
     options.step_budget_ms = options.max_frame_ms = 0.0;
     Editor editor(shell, {}, "no GPU in this test", options);
@@ -455,9 +462,12 @@ TEST_CASE("Frames: a pick's region is computed over frames the editor stays busy
             editor.advance();
             ++frames;
             CHECK(editor.session().time() == 0.0);  // no step before the region is built
+            if (editor.session().region_pending()) CHECK_FALSE(editor.draw_due());
         }
         CHECK(frames > 3);
-        CHECK(editor.draw_due());  // the region's final s is drawn
+        // The region's final s is drawn, unless the last result stays on show until the run ends.
+        CHECK(editor.draw_due() == !editor.session().holding_result());
+        CHECK(editor.session().holding_result() == (target > 0.0));
         CHECK(editor.session().s() == at_once.s());
         while (editor.busy()) editor.advance();
         run_to_target(at_once);

@@ -169,11 +169,12 @@ void Editor::advance() {
     const bool working = session_->moving() || session_->region_pending();
     const FramePacer::Plan plan = pacer_.plan(now(), working, shell_.keeps_image(), shell_.renderer_busy());
     integrate_for(plan.integrate_ms);
-    // While an edit's run keeps the last result on show, the shape drawn does not
-    // change: a shell that keeps its image (the page) has nothing new to draw
-    // until the run ends, unless it changed something itself (the camera, the
-    // dragged curve). Its draws would take the renderer from the GPU's steps.
-    const bool same_image = shell_.keeps_image() && session_->holding_result();
+    // While an edit's run keeps the last result on show, or its region's s is
+    // computed, the image does not change: a shell that keeps its image (the
+    // page) has nothing new to draw until the run ends or the region is built,
+    // unless it changed something itself (the camera, the dragged curve). Its
+    // draws would take the renderer from the GPU's steps.
+    const bool same_image = shell_.keeps_image() && (session_->holding_result() || session_->region_pending());
     // The last step is always drawn, and a region's final s.
     draw_due_ = (plan.draw && !same_image) || !(session_->moving() || session_->region_pending());
     pacer_.integrated(now(), draw_due_);
