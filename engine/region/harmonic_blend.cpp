@@ -146,7 +146,7 @@ bool HarmonicBlend::iterate(double budget_ms) {
     const auto out_of_time = [&] {
         return std::chrono::duration<double, std::milli>(Clock::now() - start).count() >= budget_ms;
     };
-    Eigen::VectorXd product(x_.size());
+    Eigen::VectorXd product(x_.size()), z(x_.size());
     while (!done_) {
         product.noalias() = laplacian_ * direction_;
         const double alpha = rz_ / direction_.dot(product);
@@ -154,7 +154,7 @@ bool HarmonicBlend::iterate(double budget_ms) {
         residual_ -= alpha * product;
         if (residual_.squaredNorm() < threshold_) return finish(), true;
         const double rz_before = rz_;
-        const Eigen::VectorXd z = inverse_diagonal_.cwiseProduct(residual_);
+        z = inverse_diagonal_.cwiseProduct(residual_);
         rz_ = residual_.dot(z);
         direction_ = z + (rz_ / rz_before) * direction_;
         if (++iterations_ >= max_iterations_) {  // a direct factorisation where the iteration does not converge
