@@ -346,7 +346,9 @@ TEST_CASE("Commands: the start-up scene waits at rest, an opened scene plays to 
     const PageInfo page{dir.path().string(), "test", false};
     const auto send = [&](const json& command) { return page_command(editor, command, page); };
     CHECK(editor.session().target_time() == 0.0);
+    for (int frames = 0; editor.busy() && frames < 1000; ++frames) editor.advance();  // the region's parts
     CHECK_FALSE(editor.busy());
+    CHECK(editor.session().time() == 0.0);
 
     // fig. 4's scene with target_time 0.3, its mesh a file the scene names by a path that is not there.
     std::filesystem::create_directories(dir.file("elsewhere"));

@@ -418,7 +418,13 @@ TEST_CASE(
         in_parts.set_regions_in_parts(true);
         at_once.open_mesh(mesh);
         in_parts.open_mesh(mesh);
-        REQUIRE_FALSE(in_parts.region_pending());  // an open builds its region at once
+        // An open computes its region in parts too.
+        REQUIRE(in_parts.region_pending());
+        for (std::size_t v = 0; v < at_once.s().size(); ++v)
+            REQUIRE((in_parts.s()[v] <= 0.0) == (at_once.s()[v] <= 0.0));
+        in_parts.finish_region();
+        CHECK(in_parts.s() == at_once.s());
+        CHECK(in_parts.warnings() == at_once.warnings());
         const double diagonal = at_once.diagonal();
         for (int edit = 0; edit < 6; ++edit) {
             INFO(mesh << ", edit " << edit);
@@ -471,6 +477,20 @@ TEST_CASE(
         in_parts.pick_geodesic(1, 0.15 * diagonal, 0.4 * diagonal);
         REQUIRE(in_parts.region_pending());
         in_parts.finish_region();
+        CHECK_FALSE(in_parts.region_pending());
+        CHECK(in_parts.s() == at_once.s());
+        // An open that fails (a region that cannot be built) keeps the document,
+        // its region computed.
+        at_once.pick_geodesic(2, 0.1 * diagonal, 0.35 * diagonal);
+        in_parts.pick_geodesic(2, 0.1 * diagonal, 0.35 * diagonal);
+        REQUIRE(in_parts.region_pending());
+        Scene bad = in_parts.current_scene();
+        bad.region.kind = RegionSpec::Kind::geodesic;
+        bad.region.g_min = 0.5, bad.region.g_max = 0.2;
+        const std::vector<Vec3> base = in_parts.base_positions();
+        CHECK_THROWS_AS(in_parts.open_scene(bad), InputError);
+        CHECK(in_parts.base_positions() == base);
+        CHECK(in_parts.history().undo_count() > 0);
         CHECK_FALSE(in_parts.region_pending());
         CHECK(in_parts.s() == at_once.s());
         // A run started while the region is pending computes it first: the same steps.

@@ -224,18 +224,24 @@ void EditorSession::open(const std::vector<std::string>& paths) {
 }
 
 void EditorSession::replace_document(Document doc) {
-    // Everything that can throw happens before the current document is touched.
+    // Everything that can throw happens before the current document is replaced:
+    // the new region's first part (eq. 15 or 16) runs on the new document with
+    // the old one kept aside, and a failure puts the old one back.
     doc.rings = build_vertex_rings(doc.file.mesh);
     doc.paint = make_region_paint(doc.file.mesh.vertex_count());
     doc.mesh_warnings = mesh_warnings(doc.file.mesh);
-    std::vector<std::string> region_warnings;
-    Region region = build_region(doc.region.spec, doc.file.mesh.positions, doc.rings, region_warnings);
     InnerMotion motion = build_motion(doc.scene.motion);
-    doc_ = std::move(doc);
+    compute_region(kToTheEnd);  // no region left to compute refers to the document set aside
+    std::swap(doc_, doc);
+    try {
+        region_build_.emplace(doc_.region.spec, doc_.file.mesh.positions, doc_.rings);
+    } catch (...) {
+        std::swap(doc_, doc);
+        throw;
+    }
+    region_warnings_.clear();
+    if (!regions_in_parts_) take_built_region(kToTheEnd);
     motion_ = std::move(motion);
-    region_ = std::move(region);
-    region_build_.reset();
-    region_warnings_ = std::move(region_warnings);
     history_.clear();
     region_gesture_ = curve_gesture_ = false;
     diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();
