@@ -287,9 +287,10 @@ json App::command(const json& c) {
 std::size_t App::array(int which) {
     editor::EditorSession& s = editor_->session();
     array_.clear();
-    if (which == 1) s.finish_region();  // the API's s is final, not eq. (15)'s or (16)'s meanwhile
-    if (which == 1) array_ = s.s();
-    else
+    if (which == 1) {
+        s.finish_region();  // the API's s is final, not eq. (15)'s or (16)'s meanwhile
+        array_ = s.s();
+    } else
         for (const Vec3& p : s.positions()) array_.insert(array_.end(), {p.x, p.y, p.z});
     return array_.size();
 }

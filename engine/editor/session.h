@@ -77,6 +77,9 @@ class EditorSession {
 public:
     // `gpu` makes the GPU deformation (empty: CPU only, `gpu_reason` says why).
     explicit EditorSession(DeformationFactory gpu = {}, std::string gpu_reason = "no GPU context");
+    // Not copied or moved: a region computed in parts refers to the document's mesh.
+    EditorSession(const EditorSession&) = delete;
+    EditorSession& operator=(const EditorSession&) = delete;
 
     // Loading. Each either succeeds and replaces the document (clearing the
     // history) or throws and leaves everything as it was. A scene opens with its
