@@ -241,6 +241,42 @@ TEST_CASE("a first step estimated far over the tolerance is tried again once, as
     }
 }
 
+TEST_CASE("a time budget stops a synchronous backend after the step that spends it, at the same steps",
+          "[deformation][integrator][step-control]") {
+    // A budget of 0 is spent by any step: one step per call, a refused try
+    // before it included; the steps are those of a call without a budget. An
+    // asynchronous backend (the GPU's) queues its steps without waiting for
+    // them, so the budget does not stop it.
+    for (const double error_scale : {0.0, 3.0}) {
+        CAPTURE(error_scale);
+        const auto make = [&](Record& record, bool asynchronous) {
+            if (error_scale == 0.0) return recording(record, asynchronous, 12);
+            return controlled(record, 1e-3, {error_scale, {0.4}}, asynchronous);
+        };
+        Record whole_record, budget_record;
+        Deformation whole = make(whole_record, false), budgeted = make(budget_record, false);
+        const int steps = whole.advance(1.0);
+        REQUIRE(steps > 3);
+        int calls = 0;
+        while (budgeted.time() != 1.0 && calls <= steps) {
+            CHECK(budgeted.advance(1.0, 1 << 30, 0.0) == 1);
+            ++calls;
+        }
+        CHECK(calls == steps);
+        REQUIRE(budget_record.calls.size() == whole_record.calls.size());
+        for (std::size_t c = 0; c < whole_record.calls.size(); ++c) {
+            CHECK(budget_record.calls[c].time == whole_record.calls[c].time);
+            CHECK(budget_record.calls[c].h == whole_record.calls[c].h);
+        }
+        CHECK(budget_record.refused == whole_record.refused);
+        if (error_scale > 0.0) CHECK(whole_record.refused > 0);
+
+        Record async_record;
+        Deformation async = make(async_record, true);
+        CHECK(async.advance(1.0, 1 << 30, 0.0) == steps);
+    }
+}
+
 TEST_CASE("error-controlled steps take about twice as many steps for a quarter of the tolerance",
           "[deformation][integrator][step-control]") {
     // The estimate grows as h², so the steps needed grow as 1 / √tolerance.

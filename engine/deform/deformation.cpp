@@ -143,7 +143,7 @@ void Deformation::note_step(double next, bool controlled, const StepResult& resu
     just_rejected_ = false;
 }
 
-int Deformation::advance(double target, int max_steps) {
+int Deformation::advance(double target, int max_steps, double budget_ms) {
     target = std::clamp(target, 0.0, 1.0);
     using Clock = std::chrono::steady_clock;
     const auto milliseconds = [](Clock::time_point since) {
@@ -164,6 +164,7 @@ int Deformation::advance(double target, int max_steps) {
         if (!backend_->asynchronous()) step_ms_.push_back(milliseconds(step_start) + prepared_ms_);
         prepared_ms_ = 0.0;
         step_start = Clock::now();
+        if (!backend_->asynchronous() && milliseconds(start) >= budget_ms) break;
     }
     if (taken > 0 && backend_->asynchronous()) {
         backend_->finish();

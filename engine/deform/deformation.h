@@ -12,6 +12,7 @@
 // GPU twins (gpu/gpu_deformation.h), which mirror them pass by pass.
 
 #include <chrono>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -206,10 +207,13 @@ public:
     Deformation(std::shared_ptr<const CpuRest> rest, InnerMotion motion, DeformationOptions options);
 
     // Integrates toward `target` (clamped to [0,1]) taking at most `max_steps`
-    // steps; returns the number taken. Throws NumericalError naming the step and
-    // vertex if a position becomes non-finite (on the CPU the positions before
-    // that step are kept; the GPU's are checked when read).
-    int advance(double target, int max_steps = 1 << 30);
+    // steps; returns the number taken. A backend that waits for its steps (the
+    // CPU) also stops after the first step taken that ends `budget_ms` or more
+    // after the call (the tries rejected before it included): at least one step,
+    // and the same steps however the calls divide them. Throws NumericalError
+    // naming the step and vertex if a position becomes non-finite (on the CPU the
+    // positions before that step are kept; the GPU's are checked when read).
+    int advance(double target, int max_steps = 1 << 30, double budget_ms = std::numeric_limits<double>::infinity());
     // StepBackend::prepare_first_step.
     bool prepare_first_step() { return backend_->prepare_first_step(); }
     // The next piece of the next step toward `target` (StepBackend::prepare_step;

@@ -217,11 +217,14 @@ void Editor::integrate_for(double budget_ms) {
     const auto steps_left = [&](double ms) { return int((budget_ms - ms) / std::max(ms_per_step_, 0.01)); };
     int chunk = moving_ ? std::clamp(steps_left(0.0), 1, 250) : 1, taken = 0;
     while (chunk > 0) {
-        const int done = session_->update(chunk);
+        // The CPU also stops after the step that spends the budget: tries found
+        // over the tolerance and slower steps than the rate said (the machine
+        // busy) add at most one step to the frame.
+        const int done = session_->update(chunk, budget_ms - elapsed());
         taken += done;
         if (taken > 0) ms_per_step_ = elapsed() / taken;
         if (done > 0) longest_step_ms_ = session_->longest_recent_step_ms();
-        if (done < chunk) break;  // at the target, or stopped
+        if (done < chunk) break;  // at the target, stopped, or the budget spent
         chunk = std::min(steps_left(elapsed()), 250 - taken);
     }
     moving_ = taken > 0;

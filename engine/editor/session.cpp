@@ -704,12 +704,12 @@ void EditorSession::ensure_deformation() {
     stats_.backend_reason = stats_.backend == "gpu" ? "" : reason;
 }
 
-int EditorSession::update(int max_steps) {
+int EditorSession::update(int max_steps, double budget_ms) {
     if (time() == target_time()) return 0;
     int taken = 0;
     run_step([&] {
         ensure_deformation();
-        taken = deformation_->advance(target_time(), max_steps);
+        taken = deformation_->advance(target_time(), max_steps, budget_ms);
         if (!moving()) held_.reset();  // the edit's result is ready
         if (taken > 0) {
             changed(positions_moved);

@@ -169,8 +169,10 @@ public:
     void play();   // target 1 (from 0 again when already there)
     void pause();  // target = current time
     void reset();  // back to t = 0 at once
-    // Takes at most `max_steps` steps toward the target; returns how many.
-    int update(int max_steps);
+    // Takes at most `max_steps` steps toward the target, on the CPU stopping
+    // after the first that ends `budget_ms` or more after the call
+    // (Deformation::advance); returns how many.
+    int update(int max_steps, double budget_ms = kToTheEnd);
     // Prepares what a run toward the target needs before its first step, one part
     // per call, so that an editor can give each a frame of its own: the region
     // an edit left to compute (for about `budget_ms`, while region_pending(),
