@@ -169,6 +169,8 @@ private:
     editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_, multisampled_}; }
     void pause();
     void resume();
+    enum class Timing { animation_frames, timeout, immediate };
+    void set_timing(Timing timing);  // how the main loop calls the next frame
     void autosave_due();
     void fence_draw(bool timed);
     void poll_fence();
@@ -176,8 +178,7 @@ private:
     bool dirty_ = true;    // draw the next frame
     GLsync fence_ = nullptr;  // set after each draw, until the GPU finished it
     double fenced_at_ = 0.0;
-    bool fence_timed_ = false;  // the draw came while the deformation ran: its time goes to the pacer
-    enum class Timing { animation_frames, timeout, immediate };
+    bool fence_timed_ = false;                  // the draw came while the deformation ran: its time goes to the pacer
     Timing timing_ = Timing::animation_frames;  // how the main loop's next frame is called
     double panel_at_ = 0.0;  // when the page's panel last showed the state (emscripten_get_now)
     bool waiting_ = false;  // the page waits for a drawn frame (its frame call said so)
@@ -303,6 +304,10 @@ void App::wake() {
 void App::resume() {
     if (!paused_) return;
     paused_ = false;
+    // An edit that starts a run while draws are costly starts it by a timeout:
+    // the next animation frame waits for the renderer, on a software renderer
+    // 100-180 ms after a drag (the page's run's draws are skipped anyway).
+    if (editor_->busy() && editor_->draws_costly()) set_timing(Timing::timeout);
     emscripten_resume_main_loop();
 }
 
@@ -370,16 +375,19 @@ void App::frame() {
     const Timing timing = !(editor_->busy() && editor_->draws_costly()) ? Timing::animation_frames
                           : shown || editor_->waiting_on_gpu()          ? Timing::timeout
                                                                         : Timing::immediate;
-    if (timing != timing_) {
-        if (timing == Timing::immediate)
-            emscripten_set_main_loop_timing(EM_TIMING_SETIMMEDIATE, 0);
-        else if (timing == Timing::timeout)
-            emscripten_set_main_loop_timing(EM_TIMING_SETTIMEOUT, 0);
-        else
-            emscripten_set_main_loop_timing(EM_TIMING_RAF, 1);
-    }
-    timing_ = timing;
+    set_timing(timing);
     if (!dirty_ && !waiting_ && !editor_->busy()) pause();
+}
+
+void App::set_timing(Timing timing) {
+    if (timing == timing_) return;
+    if (timing == Timing::immediate)
+        emscripten_set_main_loop_timing(EM_TIMING_SETIMMEDIATE, 0);
+    else if (timing == Timing::timeout)
+        emscripten_set_main_loop_timing(EM_TIMING_SETTIMEOUT, 0);
+    else
+        emscripten_set_main_loop_timing(EM_TIMING_RAF, 1);
+    timing_ = timing;
 }
 
 // WebGL runs the draw in the GPU process; a fence tells when it is done, without
