@@ -131,6 +131,31 @@ TEST_CASE("harmonic blend is the same on the mesh turned, moved far away and sca
     }
 }
 
+TEST_CASE("harmonic blend's direct factorisation, where the iteration stops unconverged, solves the same system",
+          "[region][harmonic]") {
+    // The iteration stopped after one or a few of its steps leaves the rest to
+    // SimplicialLDLT: the result is the converged iteration's, to its tolerance.
+    const TriangleMesh m = icosphere(3, 1.0);
+    const VertexRings rings = build_vertex_rings(m);
+    const std::vector<double> s = sphere_caps(m, rings);
+    const std::vector<double> iterated = harmonic_blend(m.positions, rings, s);
+    for (const long stop_after : {1L, 5L}) {
+        HarmonicBlend direct(m.positions, rings, s, stop_after);
+        int calls = 0;
+        while (!direct.iterate(0.0)) ++calls;
+        CHECK(calls == stop_after - 1);  // one iteration a call, the last one factorises
+        const std::vector<double>& solved = direct.s();
+        double worst = 0.0, moved = 0.0;
+        for (std::size_t v = 0; v < s.size(); ++v) {
+            worst = std::max(worst, std::abs(solved[v] - iterated[v]));
+            moved = std::max(moved, std::abs(solved[v] - s[v]));
+        }
+        CAPTURE(stop_after);
+        CHECK(worst < 1e-9);
+        CHECK(moved > 1e-3);  // the start was not already the solution
+    }
+}
+
 TEST_CASE("harmonic blend has no kink where eq. (16)'s geodesic distances meet", "[region][harmonic]") {
     // A square with the inner region a disc and the outer region a U round it
     // (the right edge, the top and the bottom): the distance to the outer region

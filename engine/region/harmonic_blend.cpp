@@ -7,6 +7,7 @@
 #include <limits>
 
 #include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <glm/geometric.hpp>
 
 namespace vfsd {
@@ -70,7 +71,8 @@ std::vector<double> harmonic_blend(const std::vector<Vec3>& positions, const Ver
     return blend.take();
 }
 
-HarmonicBlend::HarmonicBlend(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<double> s)
+HarmonicBlend::HarmonicBlend(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<double> s,
+                             long max_iterations)
     : s_(std::move(s)) {
     const std::vector<std::uint8_t> solve_at = anchored(s_, rings);
     std::vector<std::int32_t> index(s_.size(), -1);
@@ -84,60 +86,77 @@ HarmonicBlend::HarmonicBlend(const std::vector<Vec3>& positions, const VertexRin
     // The unknowns' ring entries' weights, in order, taken once. A small
     // multiple of the graph Laplacian keeps every row of the system positive
     // where all of a vertex's cotangents are clamped to zero.
-    std::vector<double> weights;
+    std::vector<double> edge_weights;
     double mean_weight = 0.0;
     for (const std::uint32_t v : unknowns_)
         for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
-            mean_weight += weights.emplace_back(edge_weight(positions, rings, v, k));
-    const std::size_t entries = weights.size();
+            mean_weight += edge_weights.emplace_back(edge_weight(positions, rings, v, k));
+    const std::size_t entries = edge_weights.size();
     const double floor_weight = 1e-10 * (entries > 0 && mean_weight > 0.0 ? mean_weight / double(entries) : 1.0);
 
     // Σ_j w_ij (s_j − s_i) = 0 on the unknowns, the fixed neighbours' terms on the right.
-    const auto n = static_cast<Eigen::Index>(unknowns_.size());
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(unknowns_.size() * 7);
-    rhs_ = Eigen::VectorXd::Zero(n);
+    const std::size_t n = unknowns_.size();
+    diagonal_.assign(n, 0.0);
+    rhs_.assign(n, 0.0);
     x_.resize(n);
-    const double* weight = weights.data();
-    for (const std::uint32_t v : unknowns_) {
-        const std::int32_t i = index[v];
+    row_offsets_.assign(1, 0);
+    const double* weight = edge_weights.data();
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t v = unknowns_[i];
         x_[i] = s_[v];  // eq. (15) or (16) starts the solver
-        double diagonal = 0.0;
         for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k, ++weight) {
             const std::uint32_t a = rings.neighbours[k];
             if (a == v) continue;
             const double w = *weight + floor_weight;
-            diagonal += w;
+            diagonal_[i] += w;
             if (index[a] >= 0)
-                triplets.emplace_back(i, index[a], -w);
+                columns_.push_back(static_cast<std::uint32_t>(index[a])), weights_.push_back(w);
             else
                 rhs_[i] += w * std::clamp(s_[a], 0.0, 1.0);
         }
-        triplets.emplace_back(i, i, diagonal);
+        row_offsets_.push_back(static_cast<std::uint32_t>(columns_.size()));
     }
-    laplacian_.resize(n, n);
-    laplacian_.setFromTriplets(triplets.begin(), triplets.end());
 
     // Conjugate gradients with the Jacobi preconditioner (on the armadillo's 7,442
     // blend vertices 2x quicker than incomplete Cholesky), to a relative residual
     // of 1e-12, as Eigen's ConjugateGradient runs them.
     constexpr double kTolerance = 1e-12;
-    max_iterations_ = std::max<long>(1000, n);
-    inverse_diagonal_ = laplacian_.diagonal().cwiseInverse();
-    residual_ = rhs_ - laplacian_ * x_;
-    const double rhs_norm2 = rhs_.squaredNorm();
+    max_iterations_ = max_iterations > 0 ? max_iterations : std::max<long>(1000, static_cast<long>(n));
+    inverse_diagonal_.resize(n);
+    residual_.resize(n);
+    direction_.resize(n);
+    product_.resize(n);
+    double rhs_norm2 = 0.0, residual_norm2 = 0.0;
+    rz_ = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        double ax = diagonal_[i] * x_[i];
+        for (std::uint32_t k = row_offsets_[i]; k < row_offsets_[i + 1]; ++k) ax -= weights_[k] * x_[columns_[k]];
+        residual_[i] = rhs_[i] - ax;
+        inverse_diagonal_[i] = 1.0 / diagonal_[i];
+        direction_[i] = inverse_diagonal_[i] * residual_[i];
+        rhs_norm2 += rhs_[i] * rhs_[i];
+        residual_norm2 += residual_[i] * residual_[i];
+        rz_ += residual_[i] * direction_[i];
+    }
     if (rhs_norm2 == 0.0) {
-        x_.setZero();
+        std::fill(x_.begin(), x_.end(), 0.0);
         finish();
         return;
     }
     threshold_ = std::max(kTolerance * kTolerance * rhs_norm2, std::numeric_limits<double>::min());
-    if (residual_.squaredNorm() < threshold_) {
-        finish();
-        return;
+    if (residual_norm2 < threshold_) finish();
+}
+
+double HarmonicBlend::product_with_direction() {
+    double dot = 0.0;
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+        double q = diagonal_[i] * direction_[i];
+        for (std::uint32_t k = row_offsets_[i]; k < row_offsets_[i + 1]; ++k)
+            q -= weights_[k] * direction_[columns_[k]];
+        product_[i] = q;
+        dot += direction_[i] * q;
     }
-    direction_ = inverse_diagonal_.cwiseProduct(residual_);
-    rz_ = residual_.dot(direction_);
+    return dot;
 }
 
 bool HarmonicBlend::iterate(double budget_ms) {
@@ -146,23 +165,22 @@ bool HarmonicBlend::iterate(double budget_ms) {
     const auto out_of_time = [&] {
         return std::chrono::duration<double, std::milli>(Clock::now() - start).count() >= budget_ms;
     };
-    Eigen::VectorXd product(x_.size()), z(x_.size());
+    const std::size_t n = x_.size();
     while (!done_) {
-        product.noalias() = laplacian_ * direction_;
-        const double alpha = rz_ / direction_.dot(product);
-        x_ += alpha * direction_;
-        residual_ -= alpha * product;
-        if (residual_.squaredNorm() < threshold_) return finish(), true;
-        const double rz_before = rz_;
-        z = inverse_diagonal_.cwiseProduct(residual_);
-        rz_ = residual_.dot(z);
-        direction_ = z + (rz_ / rz_before) * direction_;
+        const double alpha = rz_ / product_with_direction();
+        double residual_norm2 = 0.0, rz = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            x_[i] += alpha * direction_[i];
+            residual_[i] -= alpha * product_[i];
+            residual_norm2 += residual_[i] * residual_[i];
+            rz += residual_[i] * (inverse_diagonal_[i] * residual_[i]);
+        }
+        if (residual_norm2 < threshold_) return finish(), true;
+        const double beta = rz / rz_;
+        rz_ = rz;
+        for (std::size_t i = 0; i < n; ++i) direction_[i] = inverse_diagonal_[i] * residual_[i] + beta * direction_[i];
         if (++iterations_ >= max_iterations_) {  // a direct factorisation where the iteration does not converge
-            Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> direct(laplacian_);
-            if (direct.info() != Eigen::Success)
-                x_.setConstant(std::numeric_limits<double>::quiet_NaN());
-            else
-                x_ = direct.solve(rhs_);
+            solve_directly();
             return finish(), true;
         }
         if (out_of_time()) break;
@@ -170,16 +188,37 @@ bool HarmonicBlend::iterate(double budget_ms) {
     return done_;
 }
 
+void HarmonicBlend::solve_directly() {
+    const auto n = static_cast<Eigen::Index>(x_.size());
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(x_.size() + columns_.size());
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+        const auto row = static_cast<Eigen::Index>(i);
+        triplets.emplace_back(row, row, diagonal_[i]);
+        for (std::uint32_t k = row_offsets_[i]; k < row_offsets_[i + 1]; ++k)
+            triplets.emplace_back(row, static_cast<Eigen::Index>(columns_[k]), -weights_[k]);
+    }
+    Eigen::SparseMatrix<double> laplacian(n, n);
+    laplacian.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> direct(laplacian);
+    if (direct.info() != Eigen::Success) {
+        std::fill(x_.begin(), x_.end(), std::numeric_limits<double>::quiet_NaN());
+        return;
+    }
+    const Eigen::VectorXd solved = direct.solve(Eigen::Map<const Eigen::VectorXd>(rhs_.data(), n));
+    for (Eigen::Index i = 0; i < n; ++i) x_[static_cast<std::size_t>(i)] = solved[i];
+}
+
 void HarmonicBlend::finish() {
     // Strictly inside (0, 1): a blend vertex stays a blend vertex. A value that is
     // not finite (no factorisation either) leaves the vertex as it was.
     constexpr double kInside = 1e-12;
     for (std::size_t i = 0; i < unknowns_.size(); ++i)
-        if (std::isfinite(x_[Eigen::Index(i)]))
-            s_[unknowns_[i]] = std::clamp(x_[Eigen::Index(i)], kInside, 1.0 - kInside);
+        if (std::isfinite(x_[i])) s_[unknowns_[i]] = std::clamp(x_[i], kInside, 1.0 - kInside);
     done_ = true;
-    laplacian_ = {};
-    x_ = rhs_ = residual_ = direction_ = inverse_diagonal_ = Eigen::VectorXd();
+    for (auto* v : {&diagonal_, &weights_, &x_, &rhs_, &residual_, &direction_, &product_, &inverse_diagonal_})
+        *v = std::vector<double>();
+    row_offsets_ = columns_ = std::vector<std::uint32_t>();
 }
 
 }  // namespace vfsd

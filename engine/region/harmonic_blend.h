@@ -21,8 +21,6 @@
 #include <cstdint>
 #include <vector>
 
-#include <Eigen/SparseCore>
-
 #include "mesh/vertex_rings.h"
 
 namespace vfsd {
@@ -41,7 +39,10 @@ std::vector<double> harmonic_blend(const std::vector<Vec3>& positions, const Ver
 // however the iterations fall into parts (harmonic_blend is this, run to the end).
 class HarmonicBlend {
 public:
-    HarmonicBlend(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<double> s);
+    // After `max_iterations` (0: max(1000, unknowns)) a direct factorisation solves
+    // the system instead, where the iteration does not converge.
+    HarmonicBlend(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<double> s,
+                  long max_iterations = 0);
     // Iterates for about `budget_ms` (at least one iteration; infinity: to the end).
     // True once s is final.
     bool iterate(double budget_ms);
@@ -52,14 +53,20 @@ public:
 
 private:
     void finish();
+    double product_with_direction();  // product_ = A · direction_; returns direction_ · product_
+    void solve_directly();
 
     std::vector<double> s_;
     std::vector<std::uint32_t> unknowns_;  // the blend vertices solved for, in the system's order
-    Eigen::SparseMatrix<double> laplacian_;
-    // Jacobi-preconditioned conjugate gradients (as Eigen's ConjugateGradient,
-    // whose state lives only inside one call): the iterate, the residual, the
-    // search direction, the inverse diagonal, and r·z.
-    Eigen::VectorXd x_, rhs_, residual_, direction_, inverse_diagonal_;
+    // The system A x = rhs by rows: A's diagonal, and its off-diagonal entries
+    // (−w_ij) as columns and weights from row_offsets_[i] to row_offsets_[i + 1].
+    std::vector<double> diagonal_, weights_;
+    std::vector<std::uint32_t> row_offsets_, columns_;
+    // Jacobi-preconditioned conjugate gradients (as Eigen's ConjugateGradient
+    // runs them, whose state lives only inside one call; here each iteration is
+    // three passes over the unknowns instead of eight): the iterate, the right-hand
+    // side, the residual, the search direction, its product with A, and r·z.
+    std::vector<double> x_, rhs_, residual_, direction_, product_, inverse_diagonal_;
     double rz_ = 0.0, threshold_ = 0.0;
     long iterations_ = 0, max_iterations_ = 0;
     bool done_ = false;
