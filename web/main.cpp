@@ -306,7 +306,7 @@ void App::resume() {
     paused_ = false;
     // An edit that starts a run while draws are costly starts it by a timeout:
     // the next animation frame waits for the renderer, on a software renderer
-    // 100-180 ms after a drag (the page's run's draws are skipped anyway).
+    // 130-160 ms after a drag (the page's run's draws are skipped anyway).
     if (editor_->busy() && editor_->draws_costly()) set_timing(Timing::timeout);
     emscripten_resume_main_loop();
 }
