@@ -169,7 +169,7 @@ TEST_CASE("GPU midpoint predictor equals predict_midpoints", "[gpu]") {
         const std::vector<Vec3> gradients = upload_some_gradients(in, gpu);
         const double h = 1.0 / 250.0;
         const StepMotion half = StepMotion::sample(motion, 0.3, 0.5 * h);
-        predict_midpoints(half, in.s, RegionParts::of(in.s, in.rings), gradients, in.positions, cpu);
+        predict_midpoints(half, RegionParts::of(in.s, in.rings), gradients, in.positions, cpu);
         gpu.predict_midpoints(half);
         const double error = test::max_distance(gpu.read_midpoints(), cpu);
         report("predictor", in.name, error, in.size);
@@ -190,7 +190,7 @@ TEST_CASE("GPU deformation pass equals one RK4 deformation_step", "[gpu]") {
             const std::vector<Vec3> gradients = upload_some_gradients(in, gpu);
             const StepMotion step = StepMotion::sample(motion, 0.4, 1.0 / 250.0);
             std::vector<Vec3> cpu = in.positions;
-            deformation_step(step, in.s, RegionParts::of(in.s, in.rings), gradients, cpu, cpu);
+            deformation_step(step, RegionParts::of(in.s, in.rings), gradients, cpu, cpu);
             gpu.deformation_step(step);
             const double error = test::max_distance(gpu.read_positions(), cpu);
             report("rk4 step", in.name, error, in.size);
@@ -227,10 +227,10 @@ TEST_CASE("GPU gauge samples are their vertices' positions and gradients, and th
         for (MotionSample* m : {&step.start, &step.middle, &step.end}) m->gauge = fit.gauge_for(*m);
         REQUIRE(step.middle.gauge.q[0][1] != 0.0);
         std::vector<Vec3> cpu = in.positions, paper = in.positions;
-        deformation_step(step, in.s, RegionParts::of(in.s, in.rings), gradients, cpu, cpu);
+        deformation_step(step, RegionParts::of(in.s, in.rings), gradients, cpu, cpu);
         StepMotion without = step;
         for (MotionSample* m : {&without.start, &without.middle, &without.end}) m->gauge = StreamGauge{};
-        deformation_step(without, in.s, RegionParts::of(in.s, in.rings), gradients, paper, paper);
+        deformation_step(without, RegionParts::of(in.s, in.rings), gradients, paper, paper);
         gpu.deformation_step(step);
         const double error = test::max_distance(gpu.read_positions(), cpu);
         report("gauge step", in.name, error, in.size);

@@ -154,7 +154,7 @@ void CpuSteps::move(double time, double h, int step) {
     } else {
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
-        deformation_step(motion, rest_->s, rest_->parts, gradients_, positions_, next_);
+        deformation_step(motion, rest_->parts, gradients_, positions_, next_);
     }
     check_finite(next_, step, time);
 }
@@ -173,7 +173,7 @@ StepResult CpuSteps::estimate_try(double time, double h, double max_error) {
         *m = frame_.to_local(*m);
         if (options_.fit_stream_gauge) m->gauge = gauge_fit_->gauge_for(*m);
     }
-    predict_midpoints(half, rest_->s, rest_->parts, gradients_, positions_, midpoints_);
+    predict_midpoints(half, rest_->parts, gradients_, positions_, midpoints_);
     sample_gradients_.clear();
     for (const std::uint32_t v : rest_->gauge_samples) sample_gradients_.push_back(gradients_[v]);
     const double span = std::abs(time + 0.5 * h - gradient_time_);
@@ -332,8 +332,8 @@ std::size_t CpuRest::bytes() const {
            capacity_bytes(rings.neighbours) + capacity_bytes(rings.wedge) + capacity_bytes(s) +
            capacity_bytes(positions) + capacity_bytes(parts.blend) + capacity_bytes(parts.inner) +
            capacity_bytes(parts.blend_ring_offsets) + capacity_bytes(parts.blend_rings) +
-           capacity_bytes(gauge_samples) + fold_repair.bytes() + capacity_bytes(normals) + capacity_bytes(gradients) +
-           capacity_bytes(area_vectors);
+           capacity_bytes(parts.one_minus_b) + capacity_bytes(parts.b_slope) + capacity_bytes(gauge_samples) +
+           fold_repair.bytes() + capacity_bytes(normals) + capacity_bytes(gradients) + capacity_bytes(area_vectors);
 }
 
 std::size_t CpuSteps::state_bytes() const {

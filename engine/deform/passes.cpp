@@ -78,14 +78,14 @@ struct BlendLanes {
     Lanes3 position, grad_b;
     double one_minus_b[kFieldLanes];
 
-    void gather(const std::vector<std::uint32_t>& blend, std::size_t first, int count, const std::vector<double>& s,
-                const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions) {
+    void gather(const RegionParts& parts, std::size_t first, int count, const std::vector<Vec3>& gradients,
+                const std::vector<Vec3>& positions) {
         for (int j = 0; j < count; ++j) {
-            const std::uint32_t v = blend[first + j];
-            const Vec3 g = bernstein_blend_derivative(s[v]) * gradients[v];
+            const std::uint32_t v = parts.blend[first + j];
+            const Vec3 g = parts.b_slope[first + j] * gradients[v];
             position.x[j] = positions[v].x, position.y[j] = positions[v].y, position.z[j] = positions[v].z;
             grad_b.x[j] = g.x, grad_b.y[j] = g.y, grad_b.z[j] = g.z;
-            one_minus_b[j] = 1.0 - bernstein_blend(s[v]);
+            one_minus_b[j] = parts.one_minus_b[first + j];
         }
         for (int j = count; j < kFieldLanes; ++j)  // unused lanes, defined all the same
             position.x[j] = position.y[j] = position.z[j] = grad_b.x[j] = grad_b.y[j] = grad_b.z[j] = one_minus_b[j] = 0.0;
@@ -170,6 +170,39 @@ Vec3 ring_gradient(const Vec3* positions, const Vec3& n, const double* s, const 
     return Vec3((c1 * t1.x + c2 * t2.x) / det, (c1 * t1.y + c2 * t2.y) / det, (c1 * t1.z + c2 * t2.z) / det);
 }
 
+// Ring sizes up to this take w / size from a table in the smoothing pass.
+constexpr int kTabledRing = 64;
+
+// One smoothing step over the blend region, from scratch.gradients into
+// scratch.next (smooth_gradients below); `tangent` a template argument, so that
+// the loop does not test it per vertex.
+template <bool tangent>
+void smoothing_sweep(const RegionParts& parts, float w, const float (&share)[kTabledRing], SmoothingScratch& scratch) {
+    parallel_for(parts.blend.size(), [&](std::size_t first, std::size_t last) {
+        const Float4* gradients = scratch.gradients.data();
+        const std::uint32_t* rings = parts.blend_rings.data();
+        for (std::size_t i = first; i < last; ++i) {
+            // Average over the neighbours inside the blend region only: outside it
+            // s is constant, ∇r there carries no information, and mixing it in
+            // would shrink ∇r along the region's borders.
+            const std::uint32_t begin = parts.blend_ring_offsets[i], end = parts.blend_ring_offsets[i + 1];
+            Float4 g = gradients[i];
+            if (end > begin) {
+                Float4 sum{};
+                for (std::uint32_t k = begin; k < end; ++k) sum += gradients[rings[k]];
+                const std::uint32_t count = end - begin;
+                g += (count < kTabledRing ? share[count] : w / float(count)) * sum - w * g;
+            }
+            if (tangent) {
+                const Float4 normal = scratch.normals[i];
+                const Float4 product = g * normal;
+                g -= (product[0] + product[1] + product[2]) * normal;
+            }
+            scratch.next[i] = g;
+        }
+    });
+}
+
 }  // namespace
 
 void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals) {
@@ -197,6 +230,10 @@ std::vector<std::uint32_t> blend_vertices(const std::vector<double>& s) {
 RegionParts RegionParts::of(const std::vector<double>& s, const VertexRings& rings) {
     RegionParts parts;
     parts.blend = blend_vertices(s);
+    for (const std::uint32_t v : parts.blend) {
+        parts.one_minus_b.push_back(1.0 - bernstein_blend(s[v]));
+        parts.b_slope.push_back(bernstein_blend_derivative(s[v]));
+    }
     for (std::size_t v = 0; v < s.size(); ++v)
         if (s[v] <= 0.0) parts.inner.push_back(static_cast<std::uint32_t>(v));
     std::vector<std::uint32_t> position_in_blend(s.size(), 0);
@@ -233,27 +270,15 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
             for (std::size_t i = first; i < last; ++i) scratch.normals[i] = pack(normals[parts.blend[i]]);
     });
     const float w = static_cast<float>(weight);
+    // w / (ring size) from a table rather than a division per vertex and sweep:
+    // the same float quotient.
+    float share[kTabledRing] = {};
+    for (int count = 1; count < kTabledRing; ++count) share[count] = w / float(count);
     for (int step = 0; step < steps; ++step) {
-        parallel_for(n, [&](std::size_t first, std::size_t last) {
-            for (std::size_t i = first; i < last; ++i) {
-                // Average over the neighbours inside the blend region only: outside it
-                // s is constant, ∇r there carries no information, and mixing it in
-                // would shrink ∇r along the region's borders.
-                const std::uint32_t begin = parts.blend_ring_offsets[i], end = parts.blend_ring_offsets[i + 1];
-                Float4 g = scratch.gradients[i];
-                if (end > begin) {
-                    Float4 sum{};
-                    for (std::uint32_t k = begin; k < end; ++k) sum += scratch.gradients[parts.blend_rings[k]];
-                    g += (w / float(end - begin)) * sum - w * g;
-                }
-                if (tangent) {
-                    const Float4 normal = scratch.normals[i];
-                    const Float4 product = g * normal;
-                    g -= (product[0] + product[1] + product[2]) * normal;
-                }
-                scratch.next[i] = g;
-            }
-        });
+        if (tangent)
+            smoothing_sweep<true>(parts, w, share, scratch);
+        else
+            smoothing_sweep<false>(parts, w, share, scratch);
         scratch.gradients.swap(scratch.next);
     }
     parallel_for(n, [&](std::size_t first, std::size_t last) {
@@ -264,11 +289,10 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
     });
 }
 
-void predict_midpoints(const StepMotion& half, const std::vector<double>& s, const RegionParts& parts,
-                       const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions,
-                       std::vector<Vec3>& midpoints) {
+void predict_midpoints(const StepMotion& half, const RegionParts& parts, const std::vector<Vec3>& gradients,
+                       const std::vector<Vec3>& positions, std::vector<Vec3>& midpoints) {
     if (midpoints.size() != positions.size()) midpoints = positions;
-    deformation_step(half, s, parts, gradients, positions, midpoints);
+    deformation_step(half, parts, gradients, positions, midpoints);
 }
 
 StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
@@ -278,8 +302,8 @@ StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
     return {motion.at(t, start), motion.at(t + 0.5 * h), motion.at(t + h, end), h};
 }
 
-void deformation_step(const StepMotion& motion, const std::vector<double>& s, const RegionParts& parts,
-                      const std::vector<Vec3>& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to) {
+void deformation_step(const StepMotion& motion, const RegionParts& parts, const std::vector<Vec3>& gradients,
+                      const std::vector<Vec3>& from, std::vector<Vec3>& to) {
     const AffineStep rigid = rigid_rk4_step(motion);
     for_each_vertex(parts.inner, [&](std::uint32_t v) { to[v] = rigid(from[v]); });
     // r = s and ∇r fixed over the step.
@@ -288,7 +312,7 @@ void deformation_step(const StepMotion& motion, const std::vector<double>& s, co
     for_each_block(parts.blend.size(), [&](std::size_t first, int count) {
         BlendLanes lanes;
         Lanes3 next;
-        lanes.gather(parts.blend, first, count, s, gradients, from);
+        lanes.gather(parts, first, count, gradients, from);
         rk4_lanes(motion, m, lanes, count, next);
         scatter(next, parts.blend, first, count, to);
     });

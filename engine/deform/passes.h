@@ -38,6 +38,9 @@ struct RegionParts {
     // The neighbours y of blend[i] with 0 < s(y) < 1, as positions j in `blend`
     // (y = blend[j]): blend_rings[blend_ring_offsets[i] .. blend_ring_offsets[i + 1]).
     std::vector<std::uint32_t> blend_ring_offsets, blend_rings;
+    // 1 − b(s) and b′(s) at blend[i] (eq. 4 with r = s), taken once: the field
+    // takes them at every stage, and they do not change.
+    std::vector<double> one_minus_b, b_slope;
 
     static RegionParts of(const std::vector<double>& s, const VertexRings& rings);
 };
@@ -86,16 +89,16 @@ struct StepMotion {
 // first, and integrating back retraces the way forward (see docs/method.md).
 // Writes the inner and blend vertices; the outer region does not move, so a new
 // `midpoints` array starts as a copy of `positions` and an old one must hold them.
-void predict_midpoints(const StepMotion& half, const std::vector<double>& s, const RegionParts& parts,
-                       const std::vector<Vec3>& gradients, const std::vector<Vec3>& positions,
-                       std::vector<Vec3>& midpoints);
+void predict_midpoints(const StepMotion& half, const RegionParts& parts, const std::vector<Vec3>& gradients,
+                       const std::vector<Vec3>& positions, std::vector<Vec3>& midpoints);
 
 // Deformation pass: one RK4 step of every vertex along v + ṽ (eqs. 1–4, 9–14)
-// with r = s and ∇r = `gradients`, both held fixed over the step, from `from` into
-// `to` (they may be the same array). Only the inner and blend vertices are
-// written: the outer ones stay where `to` has them (v = 0 there).
-void deformation_step(const StepMotion& motion, const std::vector<double>& s, const RegionParts& parts,
-                      const std::vector<Vec3>& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to);
+// with r = s (the s that `parts` was made of) and ∇r = `gradients`, both held
+// fixed over the step, from `from` into `to` (they may be the same array). Only
+// the inner and blend vertices are written: the outer ones stay where `to` has
+// them (v = 0 there).
+void deformation_step(const StepMotion& motion, const RegionParts& parts, const std::vector<Vec3>& gradients,
+                      const std::vector<Vec3>& from, std::vector<Vec3>& to);
 
 // RK4's own error over a step on the inner region's rigid motion, by step
 // doubling: the largest distance between the step's map (`full`, from t by h)
