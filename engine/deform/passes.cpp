@@ -26,10 +26,18 @@ Vec3 rk4(const StepMotion& m, const Vec3& x, const Velocity& velocity) {
     return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
 }
 
-// One RK4 step of the inner region, x ↦ x0′ + M (x − x0). With b = 0 and ∇b = 0
-// the field is the rigid velocity ċ + (ω + τ) × (x − c), affine in x, and RK4 of an
-// affine field is an affine map of the start point: four points fix it, and every
-// inner vertex then costs one matrix product instead of four field evaluations.
+// One step of the explicit midpoint rule (RK2): the midpoint predictor's.
+template <class Velocity>
+Vec3 midpoint_rule(const StepMotion& m, const Vec3& x, const Velocity& velocity) {
+    const Vec3 k1 = velocity(x, m.start);
+    return x + m.h * velocity(x + 0.5 * m.h * k1, m.middle);
+}
+
+// One RK4 step (or midpoint rule step) of the inner region, x ↦ x0′ + M (x − x0).
+// With b = 0 and ∇b = 0 the field is the rigid velocity ċ + (ω + τ) × (x − c),
+// affine in x, and either step of an affine field is an affine map of the start
+// point: four points fix it, and every inner vertex then costs one matrix
+// product instead of four (two) field evaluations.
 struct AffineStep {
     Vec3 x0, image;     // a point and where the step takes it
     glm::dmat3 linear;  // M
@@ -46,10 +54,15 @@ glm::dmat3 nearest_rotation(glm::dmat3 r) {
     return r;
 }
 
-AffineStep rigid_rk4_step(const StepMotion& m) {
+enum class Stepper { rk4, midpoint_rule };
+
+AffineStep rigid_step(const StepMotion& m, Stepper stepper) {
     const auto rigid = [](const Vec3& x, const MotionSample& sample) { return inner_velocity(sample, x); };
-    AffineStep step{m.start.position, rk4(m, m.start.position, rigid), glm::dmat3(1.0)};
-    for (int axis = 0; axis < 3; ++axis) step.linear[axis] = rk4(m, step.x0 + step.linear[axis], rigid) - step.image;
+    const auto step_from = [&](const Vec3& x) {
+        return stepper == Stepper::rk4 ? rk4(m, x, rigid) : midpoint_rule(m, x, rigid);
+    };
+    AffineStep step{m.start.position, step_from(m.start.position), glm::dmat3(1.0)};
+    for (int axis = 0; axis < 3; ++axis) step.linear[axis] = step_from(step.x0 + step.linear[axis]) - step.image;
     step.linear = nearest_rotation(step.linear);
     return step;
 }
@@ -125,6 +138,37 @@ void rk4_lanes(const StepMotion& motion, const PreparedMotion (&m)[3], const Ble
     deformation_velocities(m[2], count, in.one_minus_b, in.grad_b, x, k);  // k4
     add_scaled(count, sum, 1.0, k, sum);
     add_scaled(count, in.position, h / 6.0, sum, out);
+}
+
+// midpoint_rule() above for a block of blend lanes.
+void midpoint_lanes(const StepMotion& motion, const PreparedMotion (&m)[3], const BlendLanes& in, int count,
+                    Lanes3& out) {
+    const double h = motion.h;
+    Lanes3 k, x;
+    deformation_velocities(m[0], count, in.one_minus_b, in.grad_b, in.position, k);
+    add_scaled(count, in.position, 0.5 * h, k, x);
+    deformation_velocities(m[1], count, in.one_minus_b, in.grad_b, x, k);
+    add_scaled(count, in.position, h, k, out);
+}
+
+// One step (RK4 or the midpoint rule) of the inner and blend vertices from
+// `from` into `to`, with r = s and ∇r fixed over the step.
+void step_vertices(const StepMotion& motion, Stepper stepper, const RegionParts& parts,
+                   const std::vector<Vec3>& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to) {
+    const AffineStep rigid = rigid_step(motion, stepper);
+    for_each_vertex(parts.inner, [&](std::uint32_t v) { to[v] = rigid(from[v]); });
+    const PreparedMotion m[3] = {PreparedMotion(motion.start), PreparedMotion(motion.middle),
+                                 PreparedMotion(motion.end)};
+    for_each_block(parts.blend.size(), [&](std::size_t first, int count) {
+        BlendLanes lanes;
+        Lanes3 next;
+        lanes.gather(parts, first, count, gradients, from);
+        if (stepper == Stepper::rk4)
+            rk4_lanes(motion, m, lanes, count, next);
+        else
+            midpoint_lanes(motion, m, lanes, count, next);
+        scatter(next, parts.blend, first, count, to);
+    });
 }
 
 bool in_blend(double s) { return s > 0.0 && s < 1.0; }
@@ -292,7 +336,7 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
 void predict_midpoints(const StepMotion& half, const RegionParts& parts, const std::vector<Vec3>& gradients,
                        const std::vector<Vec3>& positions, std::vector<Vec3>& midpoints) {
     if (midpoints.size() != positions.size()) midpoints = positions;
-    deformation_step(half, parts, gradients, positions, midpoints);
+    step_vertices(half, Stepper::midpoint_rule, parts, gradients, positions, midpoints);
 }
 
 StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
@@ -304,23 +348,13 @@ StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
 
 void deformation_step(const StepMotion& motion, const RegionParts& parts, const std::vector<Vec3>& gradients,
                       const std::vector<Vec3>& from, std::vector<Vec3>& to) {
-    const AffineStep rigid = rigid_rk4_step(motion);
-    for_each_vertex(parts.inner, [&](std::uint32_t v) { to[v] = rigid(from[v]); });
-    // r = s and ∇r fixed over the step.
-    const PreparedMotion m[3] = {PreparedMotion(motion.start), PreparedMotion(motion.middle),
-                                 PreparedMotion(motion.end)};
-    for_each_block(parts.blend.size(), [&](std::size_t first, int count) {
-        BlendLanes lanes;
-        Lanes3 next;
-        lanes.gather(parts, first, count, gradients, from);
-        rk4_lanes(motion, m, lanes, count, next);
-        scatter(next, parts.blend, first, count, to);
-    });
+    step_vertices(motion, Stepper::rk4, parts, gradients, from, to);
 }
 
 double rigid_step_error(const StepMotion& full, const StepMotion& first_half, const StepMotion& second_half,
                         double reach) {
-    const AffineStep one = rigid_rk4_step(full), a = rigid_rk4_step(first_half), b = rigid_rk4_step(second_half);
+    const AffineStep one = rigid_step(full, Stepper::rk4), a = rigid_step(first_half, Stepper::rk4),
+                     b = rigid_step(second_half, Stepper::rk4);
     double largest = 0.0;
     for (int axis = 0; axis < 3; ++axis)
         for (const double side : {-reach, reach}) {

@@ -156,7 +156,7 @@ void GpuPasses::smooth_gradients(int steps, double weight, bool tangent) {
     }
 }
 
-void GpuPasses::predict_midpoints(const StepMotion& half) { draw_deformation(half, midpoint_); }
+void GpuPasses::predict_midpoints(const StepMotion& half) { draw_deformation(half, midpoint_, true); }
 
 void GpuPasses::deformation_step(const StepMotion& motion) {
     stage_step(motion, false);
@@ -165,7 +165,7 @@ void GpuPasses::deformation_step(const StepMotion& motion) {
 
 void GpuPasses::stage_step(const StepMotion& motion, bool keep_volume) {
     const int into = spare();
-    draw_deformation(motion, vertex_[into]);
+    draw_deformation(motion, vertex_[into], false);
     current_ = into;
     if (keep_volume) keep_volume_staged();
 }
@@ -179,13 +179,15 @@ int GpuPasses::spare() const {
         if (slot != current_ && slot != committed_) return slot;
 }
 
-// The deformation pass (deform.frag) from the current positions into `target`.
-void GpuPasses::draw_deformation(const StepMotion& motion, const Target& target) const {
+// The deformation pass (deform.frag) from the current positions into `target`:
+// an RK4 step, or a step of the midpoint rule (the predictor).
+void GpuPasses::draw_deformation(const StepMotion& motion, const Target& target, bool midpoint_rule) const {
     bind_mesh(deform_program_);
     set_motion(deform_program_, "u_start", motion.start, origin_);
     set_motion(deform_program_, "u_middle", motion.middle, origin_);
     set_motion(deform_program_, "u_end", motion.end, origin_);
     deform_program_.set("u_h", static_cast<float>(motion.h));
+    deform_program_.set("u_midpoint_rule", midpoint_rule ? 1 : 0);
     vertex_[current_].texture.bind(kUnitPositions);
     gradient_[current_gradient_].texture.bind(kUnitGradients);
     draw(target);

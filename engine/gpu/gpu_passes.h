@@ -47,8 +47,9 @@ public:
     void estimate_gradients(At at);
     // Smoothing pass, `steps` times (ping-pong); s is taken from the vertex texture.
     void smooth_gradients(int steps, double weight, bool tangent);
-    // Midpoint predictor: the deformation pass over half the step (`half`), from the
-    // positions with the current gradients into the midpoint texture.
+    // Midpoint predictor: the deformation pass over half the step (`half`) by the
+    // midpoint rule, from the positions with the current gradients into the
+    // midpoint texture.
     void predict_midpoints(const StepMotion& half);
     // Deformation pass: one RK4 step of the positions; the new positions become current.
     void deformation_step(const StepMotion& motion);
@@ -117,7 +118,7 @@ private:
     const Texture& source(At at) const;
     void bind_mesh(const Program& program) const;
     void draw(const Target& target) const;
-    void draw_deformation(const StepMotion& motion, const Target& target) const;
+    void draw_deformation(const StepMotion& motion, const Target& target, bool midpoint_rule) const;
     int spare() const;
     void keep_volume_staged();
     std::vector<float> packed(const std::vector<Vec3>& xyz, bool with_s, const Vec3& origin) const;
