@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include <glm/geometric.hpp>
@@ -143,4 +144,34 @@ TEST_CASE("a vertex pushed past its ring reverses triangles around it, a small m
         after[v] = mesh.positions[v] + 0.1 * across;  // a tenth of the edge: nothing turns
         CHECK(reversed_triangle_list(mesh.positions, after, mesh.triangles).empty());
     }
+}
+
+TEST_CASE("the fold test's normals in lanes are unit_normal's, bit for bit, degenerate triangles too", "[quality]") {
+    // Random corners, some triangles with repeated or collinear corners (length
+    // 0) and a non-finite one: unit_normals must give exactly what unit_normal
+    // gives each, over any range and block boundary.
+    std::mt19937 random(17);
+    std::uniform_real_distribution<double> coordinate(-3.0, 3.0);
+    std::vector<Vec3> x(300);
+    for (Vec3& p : x) p = Vec3(coordinate(random), coordinate(random), coordinate(random));
+    x[7] = x[8];
+    x[9] = 0.5 * (x[10] + x[11]);
+    x[12].y = std::nan("");
+    std::vector<Triangle> triangles;
+    std::uniform_int_distribution<std::uint32_t> vertex(0, 299);
+    for (int i = 0; i < 1000; ++i) triangles.push_back(Triangle(vertex(random), vertex(random), vertex(random)));
+    triangles[3] = Triangle(7, 8, 20), triangles[64] = Triangle(9, 10, 11), triangles[65] = Triangle(5, 5, 6);
+    triangles[130] = Triangle(12, 1, 2);
+    std::vector<Vec3> lanes(triangles.size(), Vec3(-1.0));
+    unit_normals(x, triangles, 1, 999, lanes);
+    CHECK(lanes[0] == Vec3(-1.0));  // outside the range: untouched
+    CHECK(lanes[999] == Vec3(-1.0));
+    int mismatched = 0, degenerate = 0;
+    for (std::size_t t = 1; t < 999; ++t) {
+        const Vec3 one = unit_normal(x, triangles[t]);
+        degenerate += one == Vec3(0.0);
+        for (int k = 0; k < 3; ++k) mismatched += std::memcmp(&one[k], &lanes[t][k], sizeof(double)) != 0;
+    }
+    CHECK(mismatched == 0);
+    CHECK(degenerate >= 4);
 }

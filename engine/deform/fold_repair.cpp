@@ -318,7 +318,7 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const 
     if (!moved || normals_.size() != rest.triangles.size() || flags_.size() != rest.check.size()) {
         normals_.resize(rest.triangles.size());
         parallel_for(rest.triangles.size(), [&](std::size_t first, std::size_t last) {
-            for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, rest.triangles[t]);
+            unit_normals(x, rest.triangles, first, last, normals_);
         });
         flags_.resize(rest.check.size());
         parallel_for(rest.check.size(), [&](std::size_t first, std::size_t last) {
@@ -370,7 +370,7 @@ bool FoldRepair::faces_against_neighbours(std::size_t i) const {
 std::vector<float> FoldRepair::facings(const std::vector<Vec3>& x) {
     normals_.resize(at_rest_->triangles.size());
     parallel_for(at_rest_->triangles.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t t = first; t < last; ++t) normals_[t] = unit_normal(x, at_rest_->triangles[t]);
+        unit_normals(x, at_rest_->triangles, first, last, normals_);
     });
     std::vector<float> out(at_rest_->check.size());
     parallel_for(at_rest_->check.size(), [&](std::size_t first, std::size_t last) {

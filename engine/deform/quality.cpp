@@ -16,7 +16,44 @@ namespace {
 
 bool is_finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
+constexpr int kNormalLanes = 64;
+
+// Divides each (x, y, z)[j] by its length (0 for a zero or non-finite length), as
+// unit_normal does. On x86-64 with GCC, an AVX2 clone (four doubles per
+// instruction; square roots and divisions are exact, so the same bits) is
+// picked at load time where the CPU has it.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void normalise_lanes(int n, double* __restrict x, double* __restrict y, double* __restrict z) {
+    for (int j = 0; j < n; ++j) {
+        const double length = std::sqrt(x[j] * x[j] + y[j] * y[j] + z[j] * z[j]);
+        const bool positive = length > 0.0;
+        const double divisor = positive ? length : 1.0;  // no division by zero in the lanes not taken
+        const double qx = x[j] / divisor, qy = y[j] / divisor, qz = z[j] / divisor;
+        x[j] = positive ? qx : 0.0;
+        y[j] = positive ? qy : 0.0;
+        z[j] = positive ? qz : 0.0;
+    }
+}
+
 }  // namespace
+
+void unit_normals(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles, std::size_t first,
+                  std::size_t last, std::vector<Vec3>& normals) {
+    double nx[kNormalLanes], ny[kNormalLanes], nz[kNormalLanes];
+    for (std::size_t begin = first; begin < last; begin += kNormalLanes) {
+        const int n = static_cast<int>(std::min<std::size_t>(kNormalLanes, last - begin));
+        for (int j = 0; j < n; ++j) {  // unit_normal's cross product
+            const Triangle& t = triangles[begin + j];
+            const Vec3 &a = x[t[0]], &b = x[t[1]], &c = x[t[2]];
+            const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z, wx = c.x - a.x, wy = c.y - a.y, wz = c.z - a.z;
+            nx[j] = uy * wz - wy * uz, ny[j] = uz * wx - wz * ux, nz[j] = ux * wy - wx * uy;
+        }
+        normalise_lanes(n, nx, ny, nz);
+        for (int j = 0; j < n; ++j) normals[begin + j] = Vec3(nx[j], ny[j], nz[j]);
+    }
+}
 
 bool is_closed_surface(const std::vector<Triangle>& triangles) {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;

@@ -49,6 +49,13 @@ inline Vec3 unit_normal(const std::vector<Vec3>& x, const Triangle& t) {
     return length > 0.0 ? Vec3(nx / length, ny / length, nz / length) : Vec3(0.0);
 }
 
+// unit_normal of triangles[first .. last) into normals[first .. last): the same
+// bits, with the square roots and divisions of a block of triangles in SIMD
+// lanes instead of one at a time (they bound the scalar loop: the fold test's
+// pass over the triangles near the blend region, every step).
+void unit_normals(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles, std::size_t first,
+                  std::size_t last, std::vector<Vec3>& normals);
+
 // The indices of the triangles count_flipped_triangles counts.
 std::vector<std::uint32_t> flipped_triangle_list(const std::vector<Vec3>& before, const std::vector<Vec3>& after,
                                                  const std::vector<Triangle>& triangles);

@@ -62,14 +62,19 @@ inline Vec3 ring_area_sum(const Vec3* positions, const VertexRings& rings, std::
     const std::uint8_t* wedge = rings.wedge.data();
     const double x = positions[v].x, y = positions[v].y, z = positions[v].z;
     double sx = 0.0, sy = 0.0, sz = 0.0;
+    if (begin == end) return Vec3(0.0);
+    // Each neighbour loaded once: the second edge b − x of one wedge is the first of the next.
+    double ax = positions[neighbours[begin]].x - x, ay = positions[neighbours[begin]].y - y,
+           az = positions[neighbours[begin]].z - z;
     for (std::uint32_t i = begin; i < end; ++i) {
-        if (!wedge[i]) continue;
-        const Vec3& a = positions[neighbours[i]];
         const Vec3& b = positions[neighbours[i + 1 == end ? begin : i + 1]];
-        const double ax = a.x - x, ay = a.y - y, az = a.z - z, bx = b.x - x, by = b.y - y, bz = b.z - z;
-        sx += ay * bz - by * az;  // (a − x) × (b − x): twice the triangle's area times its normal
-        sy += az * bx - bz * ax;
-        sz += ax * by - bx * ay;
+        const double bx = b.x - x, by = b.y - y, bz = b.z - z;
+        if (wedge[i]) {
+            sx += ay * bz - by * az;  // (a − x) × (b − x): twice the triangle's area times its normal
+            sy += az * bx - bz * ax;
+            sz += ax * by - bx * ay;
+        }
+        ax = bx, ay = by, az = bz;
     }
     return Vec3(sx, sy, sz);
 }
