@@ -173,16 +173,7 @@ void step_vertices(const StepMotion& motion, Stepper stepper, const RegionParts&
 
 bool in_blend(double s) { return s > 0.0 && s < 1.0; }
 
-// Two unit tangents t1, t2 with (t1, t2, n) orthonormal, for a unit n
-// (Duff et al., "Building an orthonormal basis, revisited", 2017).
-void tangent_basis(const Vec3& n, Vec3& t1, Vec3& t2) {
-    const double sign = std::copysign(1.0, n.z);
-    const double a = -1.0 / (sign + n.z), b = n.x * n.y * a;
-    t1 = Vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    t2 = Vec3(b, sign + n.y * n.y * a, -n.y);
-}
-
-// Eq. (6) at vertex v with normal n: in tangent coordinates p = ((y − x)·t1,
+// Eq. (6) at vertex v with unit normal n: in tangent coordinates p = ((y − x)·t1,
 // (y − x)·t2), the least-squares fit of s(y) − s(x) ≈ g·p over the 1-ring solves
 // the 2×2 normal equations Σ p pᵀ g = Σ p (s(y) − s(x)); g·n = 0 by construction.
 // A ring that spans no plane (or a vertex without a normal) gives no gradient:
@@ -192,26 +183,66 @@ void tangent_basis(const Vec3& n, Vec3& t1, Vec3& t2) {
 // threshold float resolves, so that both passes call the same rings singular.
 constexpr double kFlatRing = 1e-6;
 
-// In scalars, as estimate_normals' ring sums (mesh/geometry.cpp): the same
-// operations in the same order as the Vec3 form, without its stack traffic.
-Vec3 ring_gradient(const Vec3* positions, const Vec3& n, const double* s, const VertexRings& rings, std::uint32_t v) {
-    if (n == Vec3(0.0)) return Vec3(0.0);
-    Vec3 t1, t2;
-    tangent_basis(n, t1, t2);
-    const double x = positions[v].x, y = positions[v].y, z = positions[v].z, sv = s[v];
-    const std::uint32_t* neighbours = rings.neighbours.data();
-    double a11 = 0.0, a12 = 0.0, a22 = 0.0, r1 = 0.0, r2 = 0.0;
-    for (std::uint32_t k = rings.offsets[v], end = rings.offsets[v + 1]; k < end; ++k) {
-        const std::uint32_t w = neighbours[k];
-        const double dx = positions[w].x - x, dy = positions[w].y - y, dz = positions[w].z - z;
-        const double p1 = dx * t1.x + dy * t1.y + dz * t1.z, p2 = dx * t2.x + dy * t2.y + dz * t2.z, ds = s[w] - sv;
-        a11 += p1 * p1, a12 += p1 * p2, a22 += p2 * p2;
-        r1 += p1 * ds, r2 += p2 * ds;
+// The gradient pass on a block of blend vertices, in three parts: the tangent
+// bases and the solutions in SIMD lanes (their divisions bound a loop that
+// takes one vertex at a time), the ring sums between them one vertex at a time.
+struct GradientLanes {
+    Lanes3 normal, t1, t2, gradient;
+    double a11[kFieldLanes], a12[kFieldLanes], a22[kFieldLanes], r1[kFieldLanes], r2[kFieldLanes];
+};
+
+// Two unit tangents t1, t2 with (t1, t2, n) orthonormal, for a unit n (Duff et
+// al., "Building an orthonormal basis, revisited", 2017), in each lane.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void tangent_lanes(int count, GradientLanes& l) {
+    for (int j = 0; j < count; ++j) {
+        const double nx = l.normal.x[j], ny = l.normal.y[j], nz = l.normal.z[j];
+        const double sign = std::copysign(1.0, nz);
+        const double a = -1.0 / (sign + nz), b = nx * ny * a;
+        l.t1.x[j] = 1.0 + sign * nx * nx * a, l.t1.y[j] = sign * b, l.t1.z[j] = -sign * nx;
+        l.t2.x[j] = b, l.t2.y[j] = sign + ny * ny * a, l.t2.z[j] = -ny;
     }
-    const double scale = a11 + a22, det = a11 * a22 - a12 * a12;
-    if (!(det > kFlatRing * scale * scale)) return Vec3(0.0);
-    const double c1 = a22 * r1 - a12 * r2, c2 = a11 * r2 - a12 * r1;
-    return Vec3((c1 * t1.x + c2 * t2.x) / det, (c1 * t1.y + c2 * t2.y) / det, (c1 * t1.z + c2 * t2.z) / det);
+}
+
+// Σ p pᵀ and Σ p (s(y) − s(x)) over vertex v's ring, in lane j; zero sums (no
+// gradient) for a vertex without a normal. In scalars, as estimate_normals' ring
+// sums (mesh/geometry.cpp).
+void ring_sums(const Vec3* positions, const double* s, const VertexRings& rings, std::uint32_t v, int j,
+               GradientLanes& l) {
+    double a11 = 0.0, a12 = 0.0, a22 = 0.0, r1 = 0.0, r2 = 0.0;
+    if (l.normal.x[j] != 0.0 || l.normal.y[j] != 0.0 || l.normal.z[j] != 0.0) {
+        const double t1x = l.t1.x[j], t1y = l.t1.y[j], t1z = l.t1.z[j];
+        const double t2x = l.t2.x[j], t2y = l.t2.y[j], t2z = l.t2.z[j];
+        const double x = positions[v].x, y = positions[v].y, z = positions[v].z, sv = s[v];
+        const std::uint32_t* neighbours = rings.neighbours.data();
+        for (std::uint32_t k = rings.offsets[v], end = rings.offsets[v + 1]; k < end; ++k) {
+            const std::uint32_t w = neighbours[k];
+            const double dx = positions[w].x - x, dy = positions[w].y - y, dz = positions[w].z - z;
+            const double p1 = dx * t1x + dy * t1y + dz * t1z, p2 = dx * t2x + dy * t2y + dz * t2z, ds = s[w] - sv;
+            a11 += p1 * p1, a12 += p1 * p2, a22 += p2 * p2;
+            r1 += p1 * ds, r2 += p2 * ds;
+        }
+    }
+    l.a11[j] = a11, l.a12[j] = a12, l.a22[j] = a22, l.r1[j] = r1, l.r2[j] = r2;
+}
+
+// The 2×2 systems' solutions g = c1 t1 + c2 t2 in each lane, or 0 where kFlatRing rejects it.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void solve_lanes(int count, GradientLanes& l) {
+    for (int j = 0; j < count; ++j) {
+        const double a11 = l.a11[j], a12 = l.a12[j], a22 = l.a22[j], r1 = l.r1[j], r2 = l.r2[j];
+        const double scale = a11 + a22, det = a11 * a22 - a12 * a12;
+        const bool spans = det > kFlatRing * scale * scale;
+        const double divisor = spans ? det : 1.0;  // no division by zero in the lanes not taken
+        const double c1 = a22 * r1 - a12 * r2, c2 = a11 * r2 - a12 * r1;
+        const double gx = (c1 * l.t1.x[j] + c2 * l.t2.x[j]) / divisor, gy = (c1 * l.t1.y[j] + c2 * l.t2.y[j]) / divisor,
+                     gz = (c1 * l.t1.z[j] + c2 * l.t2.z[j]) / divisor;
+        l.gradient.x[j] = spans ? gx : 0.0, l.gradient.y[j] = spans ? gy : 0.0, l.gradient.z[j] = spans ? gz : 0.0;
+    }
 }
 
 // Ring sizes up to this take w / size from a table in the smoothing pass.
@@ -296,8 +327,17 @@ void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Ve
                         const std::vector<double>& s, const VertexRings& rings,
                         const std::vector<std::uint32_t>& blend, std::vector<Vec3>& gradients) {
     if (gradients.size() != positions.size()) gradients.assign(positions.size(), Vec3(0.0));
-    for_each_vertex(blend, [&](std::uint32_t v) {
-        gradients[v] = ring_gradient(positions.data(), normals[v], s.data(), rings, v);
+    for_each_block(blend.size(), [&](std::size_t first, int count) {
+        GradientLanes lanes;
+        for (int j = 0; j < count; ++j) {
+            const Vec3& n = normals[blend[first + j]];
+            lanes.normal.x[j] = n.x, lanes.normal.y[j] = n.y, lanes.normal.z[j] = n.z;
+        }
+        tangent_lanes(count, lanes);
+        for (int j = 0; j < count; ++j) ring_sums(positions.data(), s.data(), rings, blend[first + j], j, lanes);
+        solve_lanes(count, lanes);
+        for (int j = 0; j < count; ++j)
+            gradients[blend[first + j]] = Vec3(lanes.gradient.x[j], lanes.gradient.y[j], lanes.gradient.z[j]);
     });
 }
 

@@ -18,25 +18,6 @@ bool is_finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) 
 
 constexpr int kNormalLanes = 64;
 
-// Divides each (x, y, z)[j] by its length (0 for a zero or non-finite length), as
-// unit_normal does. On x86-64 with GCC, an AVX2 clone (four doubles per
-// instruction; square roots and divisions are exact, so the same bits) is
-// picked at load time where the CPU has it.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void normalise_lanes(int n, double* __restrict x, double* __restrict y, double* __restrict z) {
-    for (int j = 0; j < n; ++j) {
-        const double length = std::sqrt(x[j] * x[j] + y[j] * y[j] + z[j] * z[j]);
-        const bool positive = length > 0.0;
-        const double divisor = positive ? length : 1.0;  // no division by zero in the lanes not taken
-        const double qx = x[j] / divisor, qy = y[j] / divisor, qz = z[j] / divisor;
-        x[j] = positive ? qx : 0.0;
-        y[j] = positive ? qy : 0.0;
-        z[j] = positive ? qz : 0.0;
-    }
-}
-
 }  // namespace
 
 void unit_normals(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles, std::size_t first,

@@ -2,6 +2,7 @@
 
 #include "base/parallel.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -79,7 +80,44 @@ inline Vec3 ring_area_sum(const Vec3* positions, const VertexRings& rings, std::
     return Vec3(sx, sy, sz);
 }
 
+constexpr int kNormalLanes = 64;
+
+// Vertex vertex_of(i)'s unit normal into normals[vertex_of(i)] for i in
+// [first, last), and its ring area vector into area_vectors[i] when asked: the
+// ring sums one vertex at a time, their normalisation kNormalLanes at a time.
+template <class VertexOf>
+void normals_in_lanes(const Vec3* positions, const VertexRings& rings, const VertexOf& vertex_of, std::size_t first,
+                      std::size_t last, Vec3* normals, Vec3* area_vectors) {
+    double x[kNormalLanes], y[kNormalLanes], z[kNormalLanes];
+    for (std::size_t begin = first; begin < last; begin += kNormalLanes) {
+        const int n = static_cast<int>(std::min<std::size_t>(kNormalLanes, last - begin));
+        for (int j = 0; j < n; ++j) {
+            const Vec3 sum = ring_area_sum(positions, rings, vertex_of(begin + j));
+            x[j] = sum.x, y[j] = sum.y, z[j] = sum.z;
+        }
+        if (area_vectors)
+            for (int j = 0; j < n; ++j) area_vectors[begin + j] = Vec3(x[j], y[j], z[j]);
+        normalise_lanes(n, x, y, z);
+        for (int j = 0; j < n; ++j) normals[vertex_of(begin + j)] = Vec3(x[j], y[j], z[j]);
+    }
+}
+
 }  // namespace
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void normalise_lanes(int n, double* __restrict x, double* __restrict y, double* __restrict z) {
+    for (int j = 0; j < n; ++j) {
+        const double length = std::sqrt(x[j] * x[j] + y[j] * y[j] + z[j] * z[j]);
+        const bool positive = length > 0.0;
+        const double divisor = positive ? length : 1.0;  // no division by zero in the lanes not taken
+        const double qx = x[j] / divisor, qy = y[j] / divisor, qz = z[j] / divisor;
+        x[j] = positive ? qx : 0.0;
+        y[j] = positive ? qy : 0.0;
+        z[j] = positive ? qz : 0.0;
+    }
+}
 
 Vec3 ring_area_vector(const std::vector<Vec3>& positions, const VertexRings& rings, std::uint32_t v) {
     return ring_area_sum(positions.data(), rings, v);
@@ -101,8 +139,8 @@ void ring_area_vectors(const std::vector<Vec3>& positions, const VertexRings& ri
 void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings, std::vector<Vec3>& normals) {
     normals.resize(positions.size());
     parallel_for(rings.vertex_count(), [&](std::size_t first, std::size_t last) {
-        for (auto v = static_cast<std::uint32_t>(first); v < last; ++v)
-            normals[v] = unit_or_zero(ring_area_sum(positions.data(), rings, v));
+        const auto itself = [](std::size_t i) { return static_cast<std::uint32_t>(i); };
+        normals_in_lanes(positions.data(), rings, itself, first, last, normals.data(), nullptr);
     });
 }
 
@@ -110,8 +148,9 @@ void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings
                     const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals) {
     normals.resize(positions.size());
     parallel_for(vertices.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i)
-            normals[vertices[i]] = unit_or_zero(ring_area_sum(positions.data(), rings, vertices[i]));
+        const std::uint32_t* list = vertices.data();
+        const auto listed = [list](std::size_t i) { return list[i]; };
+        normals_in_lanes(positions.data(), rings, listed, first, last, normals.data(), nullptr);
     });
 }
 
@@ -121,11 +160,9 @@ void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings
     normals.resize(positions.size());
     area_vectors.resize(vertices.size());
     parallel_for(vertices.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) {
-            const Vec3 sum = ring_area_sum(positions.data(), rings, vertices[i]);
-            area_vectors[i] = sum;
-            normals[vertices[i]] = unit_or_zero(sum);
-        }
+        const std::uint32_t* list = vertices.data();
+        const auto listed = [list](std::size_t i) { return list[i]; };
+        normals_in_lanes(positions.data(), rings, listed, first, last, normals.data(), area_vectors.data());
     });
 }
 

@@ -36,6 +36,13 @@ void vertex_normals(const std::vector<Vec3>& positions, const VertexRings& rings
                     const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& normals,
                     std::vector<Vec3>& area_vectors);
 
+// Each of the n vectors (x[j], y[j], z[j]) divided by its length, (0,0,0) where
+// that is 0 or not a number: in SIMD lanes (the square roots and divisions bound
+// the normal passes done one at a time), with the same bits as glm's
+// v / glm::length(v). On x86-64 with GCC an AVX2 clone is picked at load time
+// where the CPU has it (square roots and divisions are exact in any width).
+void normalise_lanes(int n, double* __restrict x, double* __restrict y, double* __restrict z);
+
 // Σ (a − x) × (b − x) over the triangles (x, a, b) of v's fan: twice its fan's
 // area along its normal. On a closed mesh it is 6 ∂V/∂x_v, the enclosed volume's
 // gradient with respect to v (sec. 7.2's V as a sum of tetrahedra).
