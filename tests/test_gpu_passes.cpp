@@ -128,9 +128,11 @@ TEST_CASE("GPU gradient pass equals estimate_gradients (eq. 6)", "[gpu]") {
     VFSD_REQUIRE_GPU_CONTEXT();
     for (const PassInput& in : pass_inputs()) {
         gpu::GpuPasses gpu(in.positions, in.s, in.rings);
-        std::vector<Vec3> normals, cpu;
+        std::vector<Vec3> normals;
+        GradientRecords records;
         estimate_normals(in.positions, in.rings, normals);
-        estimate_gradients(in.positions, normals, in.s, in.rings, blend_vertices(in.s), cpu);
+        estimate_gradients(in.positions, normals, in.s, in.rings, blend_vertices(in.s), records);
+        const std::vector<Vec3> cpu = vertex_gradients(records, blend_vertices(in.s), in.positions.size());
         gpu.estimate_normals(gpu::At::positions);
         gpu.estimate_gradients(gpu::At::positions);
         const double scale = test::max_length(cpu);
@@ -148,10 +150,13 @@ TEST_CASE("GPU smoothing pass equals smooth_gradients, tangent or in space", "[g
         std::vector<Vec3> normals;
         SmoothingScratch scratch;
         estimate_normals(in.positions, in.rings, normals);
-        std::vector<Vec3> cpu = some_gradients(in, normals);
-        gpu.set_gradients(cpu);
+        const std::vector<Vec3> before = some_gradients(in, normals);
+        gpu.set_gradients(before);
         gpu.estimate_normals(gpu::At::positions);
-        smooth_gradients(normals, RegionParts::of(in.s, in.rings), 10, 0.5, tangent, cpu, scratch);
+        const RegionParts parts = RegionParts::of(in.s, in.rings);
+        GradientRecords records = gradient_records(before, parts.blend);
+        smooth_gradients(normals, parts, 10, 0.5, tangent, records, scratch);
+        const std::vector<Vec3> cpu = vertex_gradients(records, parts.blend, in.positions.size());
         gpu.smooth_gradients(10, 0.5, tangent);
         const double scale = test::max_length(cpu);
         const double error = test::max_distance(gpu.read_gradients(), cpu);
@@ -169,7 +174,8 @@ TEST_CASE("GPU midpoint predictor equals predict_midpoints", "[gpu]") {
         const std::vector<Vec3> gradients = upload_some_gradients(in, gpu);
         const double h = 1.0 / 250.0;
         const StepMotion half = StepMotion::sample(motion, 0.3, 0.5 * h);
-        predict_midpoints(half, RegionParts::of(in.s, in.rings), gradients, in.positions, cpu);
+        const RegionParts parts = RegionParts::of(in.s, in.rings);
+        predict_midpoints(half, parts, gradient_records(gradients, parts.blend), in.positions, cpu);
         gpu.predict_midpoints(half);
         const double error = test::max_distance(gpu.read_midpoints(), cpu);
         report("predictor", in.name, error, in.size);
@@ -190,7 +196,8 @@ TEST_CASE("GPU deformation pass equals one RK4 deformation_step", "[gpu]") {
             const std::vector<Vec3> gradients = upload_some_gradients(in, gpu);
             const StepMotion step = StepMotion::sample(motion, 0.4, 1.0 / 250.0);
             std::vector<Vec3> cpu = in.positions;
-            deformation_step(step, RegionParts::of(in.s, in.rings), gradients, cpu, cpu);
+            const RegionParts parts = RegionParts::of(in.s, in.rings);
+            deformation_step(step, parts, gradient_records(gradients, parts.blend), cpu, cpu);
             gpu.deformation_step(step);
             const double error = test::max_distance(gpu.read_positions(), cpu);
             report("rk4 step", in.name, error, in.size);
@@ -227,10 +234,12 @@ TEST_CASE("GPU gauge samples are their vertices' positions and gradients, and th
         for (MotionSample* m : {&step.start, &step.middle, &step.end}) m->gauge = fit.gauge_for(*m);
         REQUIRE(step.middle.gauge.q[0][1] != 0.0);
         std::vector<Vec3> cpu = in.positions, paper = in.positions;
-        deformation_step(step, RegionParts::of(in.s, in.rings), gradients, cpu, cpu);
+        const RegionParts parts = RegionParts::of(in.s, in.rings);
+        const GradientRecords records = gradient_records(gradients, parts.blend);
+        deformation_step(step, parts, records, cpu, cpu);
         StepMotion without = step;
         for (MotionSample* m : {&without.start, &without.middle, &without.end}) m->gauge = StreamGauge{};
-        deformation_step(without, RegionParts::of(in.s, in.rings), gradients, paper, paper);
+        deformation_step(without, parts, records, paper, paper);
         gpu.deformation_step(step);
         const double error = test::max_distance(gpu.read_positions(), cpu);
         report("gauge step", in.name, error, in.size);

@@ -64,6 +64,9 @@ CpuSteps::CpuSteps(std::vector<Vec3> positions, VertexRings rings, Region region
         rest->s = gather_in_order(region_.s, rest->order);
         rest->parts = RegionParts::of(rest->s, rest->rings);
         rest->gauge_samples = gauge_samples(rest->s, rest->parts.blend);
+        for (const std::uint32_t v : rest->gauge_samples)
+            rest->gauge_in_blend.push_back(static_cast<std::uint32_t>(
+                std::lower_bound(rest->parts.blend.begin(), rest->parts.blend.end(), v) - rest->parts.blend.begin()));
         rest->size = centred_diameter(rest->positions);
         region_.s.clear();
         building_ = rest;
@@ -86,17 +89,15 @@ void CpuSteps::start_from_rest() {
         input_order_ = rest_->input_positions;
     }
     normals_.assign(positions_.size(), Vec3(0.0));
-    gradients_.assign(positions_.size(), Vec3(0.0));
+    gradients_.assign(rest_ ? rest_->parts.blend.size() : 0, Float4{});
     next_ = positions_;
     midpoints_ = positions_;
     if (!rest_) return;
     if (rest_->keepers_built) fold_repair_ = rest_->fold_repair;
     if (rest_->estimated) {
         const std::vector<std::uint32_t>& blend = rest_->parts.blend;
-        for (std::size_t i = 0; i < blend.size(); ++i) {
-            normals_[blend[i]] = rest_->normals[i];
-            gradients_[blend[i]] = rest_->gradients[i];
-        }
+        for (std::size_t i = 0; i < blend.size(); ++i) normals_[blend[i]] = rest_->normals[i];
+        gradients_ = rest_->gradients;
         area_vectors_ = rest_->area_vectors;
         gauge_fit_ = rest_->gauge_fit;
         have_gradients_ = true;
@@ -175,7 +176,7 @@ StepResult CpuSteps::estimate_try(double time, double h, double max_error) {
     }
     predict_midpoints(half, rest_->parts, gradients_, positions_, midpoints_);
     sample_gradients_.clear();
-    for (const std::uint32_t v : rest_->gauge_samples) sample_gradients_.push_back(gradients_[v]);
+    for (std::size_t j = 0; j < rest_->gauge_samples.size(); ++j) sample_gradients_.push_back(gradient_at_sample(j));
     const double span = std::abs(time + 0.5 * h - gradient_time_);
     estimate_surface_gradients(midpoints_);
     gradient_time_ = time + 0.5 * h;
@@ -232,7 +233,7 @@ double CpuSteps::estimate_error(const MotionSample& middle, double h, double spa
                middle, h, span, rest_->gauge_samples.size(),
                [&](std::size_t j) {
                    const std::uint32_t v = rest_->gauge_samples[j];
-                   return StepErrorSample{midpoints_[v], rest_->s[v], sample_gradients_[j], gradients_[v]};
+                   return StepErrorSample{midpoints_[v], rest_->s[v], sample_gradients_[j], gradient_at_sample(j)};
                }) /
            rest_->size;
 }
@@ -282,11 +283,9 @@ void CpuSteps::estimate_at_start(double time) {
     CpuRest& rest = *building_;
     rest.estimated = true;
     rest.normals.reserve(rest.parts.blend.size());
-    rest.gradients.reserve(rest.parts.blend.size());
-    for (const std::uint32_t v : rest.parts.blend) {  // the passes write the blend region's only
-        rest.normals.push_back(normals_[v]);
-        rest.gradients.push_back(gradients_[v]);
-    }
+    for (const std::uint32_t v : rest.parts.blend)
+        rest.normals.push_back(normals_[v]);  // the passes write the blend region's only
+    rest.gradients = gradients_;
     rest.area_vectors = area_vectors_;
     rest.gauge_fit = gauge_fit_;
 }
@@ -294,9 +293,17 @@ void CpuSteps::estimate_at_start(double time) {
 // The stream gauge's fit to the blend region at `at` with the current ∇r.
 GaugeFit CpuSteps::fit_stream_gauge(const std::vector<Vec3>& at) const {
     std::vector<GaugeSample> samples;
-    for (const std::uint32_t v : rest_->gauge_samples)
-        samples.push_back(gauge_sample(at[v], rest_->s[v], gradients_[v]));
+    for (std::size_t j = 0; j < rest_->gauge_samples.size(); ++j) {
+        const std::uint32_t v = rest_->gauge_samples[j];
+        samples.push_back(gauge_sample(at[v], rest_->s[v], gradient_at_sample(j)));
+    }
     return GaugeFit(std::move(samples));
+}
+
+// ∇r at the gauge's sample j.
+Vec3 CpuSteps::gradient_at_sample(std::size_t j) const {
+    const Float4& g = gradients_[rest_->gauge_in_blend[j]];
+    return Vec3(g[0], g[1], g[2]);
 }
 
 FoldRepairStats CpuSteps::fold_repairs() const {
@@ -333,14 +340,15 @@ std::size_t CpuRest::bytes() const {
            capacity_bytes(positions) + capacity_bytes(parts.blend) + capacity_bytes(parts.inner) +
            capacity_bytes(parts.blend_ring_offsets) + capacity_bytes(parts.blend_rings) +
            capacity_bytes(parts.one_minus_b) + capacity_bytes(parts.b_slope) + capacity_bytes(gauge_samples) +
-           fold_repair.bytes() + capacity_bytes(normals) + capacity_bytes(gradients) + capacity_bytes(area_vectors);
+           capacity_bytes(gauge_in_blend) + fold_repair.bytes() + capacity_bytes(normals) + capacity_bytes(gradients) +
+           capacity_bytes(area_vectors);
 }
 
 std::size_t CpuSteps::state_bytes() const {
     return capacity_bytes(positions_) + capacity_bytes(next_) + capacity_bytes(midpoints_) + capacity_bytes(normals_) +
            capacity_bytes(gradients_) + capacity_bytes(area_vectors_) + capacity_bytes(input_order_) +
-           capacity_bytes(smoothing_.gradients) + capacity_bytes(smoothing_.next) + capacity_bytes(smoothing_.normals) +
-           fold_repair_.bytes(false) + (rest_ ? rest_->bytes() : 0);
+           capacity_bytes(smoothing_.next) + capacity_bytes(smoothing_.normals) + fold_repair_.bytes(false) +
+           (rest_ ? rest_->bytes() : 0);
 }
 
 // Throws NumericalError at the first non-finite position among those the step moved.

@@ -38,13 +38,15 @@ struct CpuRest {
     std::vector<Vec3> positions;
     RegionParts parts;
     std::vector<std::uint32_t> gauge_samples;  // the blend vertices the stream's gauge is fitted to
+    std::vector<std::uint32_t> gauge_in_blend;  // their positions in parts.blend (their ∇r records)
     double size = 0.0;                         // centred_diameter at rest, in frame's units
     // Built before the first step (CpuSteps::prepare_first_step), then kept.
     bool keepers_built = false;
     VolumeKeeper volume;
     FoldRepair fold_repair;
     bool estimated = false;                              // the estimates at rest (with midpoint gradients only)
-    std::vector<Vec3> normals, gradients, area_vectors;  // per blend vertex (parts.blend)
+    std::vector<Vec3> normals, area_vectors;             // per blend vertex (parts.blend)
+    GradientRecords gradients;
     std::optional<GaugeFit> gauge_fit;
 
     // Whether a deformation of these positions, rings, region and options may start from it.
@@ -92,6 +94,7 @@ private:
     double motion_error(const StepMotion& full, const StepMotion& first_half, double time, double h) const;
     bool build_keepers();
     GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
+    Vec3 gradient_at_sample(std::size_t j) const;
 
     // rest_ holds what does not change over the steps (null for the sphere tool);
     // building_ is the same object where this deformation built it (null where
@@ -111,7 +114,8 @@ private:
     DeformationOptions options_;
     // Per-step work arrays, sized once. The outer region never moves, so
     // positions_, next_ and midpoints_ hold the same outer positions throughout.
-    std::vector<Vec3> normals_, gradients_, next_, midpoints_;
+    std::vector<Vec3> normals_, next_, midpoints_;
+    GradientRecords gradients_;       // ∇r on the blend region
     std::vector<Vec3> area_vectors_;  // per blend vertex, where normals_ were taken: the volume keeper's ∂V/∂x
     SmoothingScratch smoothing_;
     bool have_gradients_ = false;               // gradients_ hold the last step's ∇r

@@ -91,11 +91,12 @@ struct BlendLanes {
     Lanes3 position, grad_b;
     double one_minus_b[kFieldLanes];
 
-    void gather(const RegionParts& parts, std::size_t first, int count, const std::vector<Vec3>& gradients,
+    void gather(const RegionParts& parts, std::size_t first, int count, const GradientRecords& gradients,
                 const std::vector<Vec3>& positions) {
         for (int j = 0; j < count; ++j) {
             const std::uint32_t v = parts.blend[first + j];
-            const Vec3 g = parts.b_slope[first + j] * gradients[v];
+            const Float4& r = gradients[first + j];
+            const Vec3 g = parts.b_slope[first + j] * Vec3(r[0], r[1], r[2]);
             position.x[j] = positions[v].x, position.y[j] = positions[v].y, position.z[j] = positions[v].z;
             grad_b.x[j] = g.x, grad_b.y[j] = g.y, grad_b.z[j] = g.z;
             one_minus_b[j] = parts.one_minus_b[first + j];
@@ -154,7 +155,7 @@ void midpoint_lanes(const StepMotion& motion, const PreparedMotion (&m)[3], cons
 // One step (RK4 or the midpoint rule) of the inner and blend vertices from
 // `from` into `to`, with r = s and ∇r fixed over the step.
 void step_vertices(const StepMotion& motion, Stepper stepper, const RegionParts& parts,
-                   const std::vector<Vec3>& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to) {
+                   const GradientRecords& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to) {
     const AffineStep rigid = rigid_step(motion, stepper);
     for_each_vertex(parts.inner, [&](std::uint32_t v) { to[v] = rigid(from[v]); });
     const PreparedMotion m[3] = {PreparedMotion(motion.start), PreparedMotion(motion.middle),
@@ -248,13 +249,13 @@ void solve_lanes(int count, GradientLanes& l) {
 // Ring sizes up to this take w / size from a table in the smoothing pass.
 constexpr int kTabledRing = 64;
 
-// One smoothing step over the blend region, from scratch.gradients into
-// scratch.next (smooth_gradients below); `tangent` a template argument, so that
-// the loop does not test it per vertex.
+// One smoothing step over the blend region, from `from` into scratch.next (smooth_gradients below); `tangent` a
+// template argument, so that the loop does not test it per vertex.
 template <bool tangent>
-void smoothing_sweep(const RegionParts& parts, float w, const float (&share)[kTabledRing], SmoothingScratch& scratch) {
+void smoothing_sweep(const RegionParts& parts, float w, const float (&share)[kTabledRing], const GradientRecords& from,
+                     SmoothingScratch& scratch) {
     parallel_for(parts.blend.size(), [&](std::size_t first, std::size_t last) {
-        const Float4* gradients = scratch.gradients.data();
+        const Float4* gradients = from.data();
         const std::uint32_t* rings = parts.blend_rings.data();
         for (std::size_t i = first; i < last; ++i) {
             // Average over the neighbours inside the blend region only: outside it
@@ -324,9 +325,9 @@ RegionParts RegionParts::of(const std::vector<double>& s, const VertexRings& rin
 }
 
 void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
-                        const std::vector<double>& s, const VertexRings& rings,
-                        const std::vector<std::uint32_t>& blend, std::vector<Vec3>& gradients) {
-    if (gradients.size() != positions.size()) gradients.assign(positions.size(), Vec3(0.0));
+                        const std::vector<double>& s, const VertexRings& rings, const std::vector<std::uint32_t>& blend,
+                        GradientRecords& gradients) {
+    gradients.resize(blend.size());
     for_each_block(blend.size(), [&](std::size_t first, int count) {
         GradientLanes lanes;
         for (int j = 0; j < count; ++j) {
@@ -337,22 +338,23 @@ void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Ve
         for (int j = 0; j < count; ++j) ring_sums(positions.data(), s.data(), rings, blend[first + j], j, lanes);
         solve_lanes(count, lanes);
         for (int j = 0; j < count; ++j)
-            gradients[blend[first + j]] = Vec3(lanes.gradient.x[j], lanes.gradient.y[j], lanes.gradient.z[j]);
+            gradients[first + j] =
+                Float4{float(lanes.gradient.x[j]), float(lanes.gradient.y[j]), float(lanes.gradient.z[j]), 0.0f};
     });
 }
 
 void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts, int steps, double weight,
-                      bool tangent, std::vector<Vec3>& gradients, SmoothingScratch& scratch) {
+                      bool tangent, GradientRecords& gradients, SmoothingScratch& scratch) {
     const std::size_t n = parts.blend.size();
-    const auto pack = [](const Vec3& v) { return Float4{float(v.x), float(v.y), float(v.z), 0.0f}; };
-    scratch.gradients.resize(n);
     scratch.next.resize(n);
     scratch.normals.resize(tangent ? n : 0);  // only the tangent smoothing takes the normals
-    parallel_for(n, [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) scratch.gradients[i] = pack(gradients[parts.blend[i]]);
-        if (tangent)
-            for (std::size_t i = first; i < last; ++i) scratch.normals[i] = pack(normals[parts.blend[i]]);
-    });
+    if (tangent)
+        parallel_for(n, [&](std::size_t first, std::size_t last) {
+            for (std::size_t i = first; i < last; ++i) {
+                const Vec3& normal = normals[parts.blend[i]];
+                scratch.normals[i] = Float4{float(normal.x), float(normal.y), float(normal.z), 0.0f};
+            }
+        });
     const float w = static_cast<float>(weight);
     // w / (ring size) from a table rather than a division per vertex and sweep:
     // the same float quotient.
@@ -360,20 +362,29 @@ void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts
     for (int count = 1; count < kTabledRing; ++count) share[count] = w / float(count);
     for (int step = 0; step < steps; ++step) {
         if (tangent)
-            smoothing_sweep<true>(parts, w, share, scratch);
+            smoothing_sweep<true>(parts, w, share, gradients, scratch);
         else
-            smoothing_sweep<false>(parts, w, share, scratch);
-        scratch.gradients.swap(scratch.next);
+            smoothing_sweep<false>(parts, w, share, gradients, scratch);
+        gradients.swap(scratch.next);
     }
-    parallel_for(n, [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) {
-            const Float4 g = scratch.gradients[i];
-            gradients[parts.blend[i]] = Vec3(g[0], g[1], g[2]);
-        }
-    });
 }
 
-void predict_midpoints(const StepMotion& half, const RegionParts& parts, const std::vector<Vec3>& gradients,
+GradientRecords gradient_records(const std::vector<Vec3>& gradients, const std::vector<std::uint32_t>& blend) {
+    GradientRecords records;
+    for (const std::uint32_t v : blend)
+        records.push_back(Float4{float(gradients[v].x), float(gradients[v].y), float(gradients[v].z), 0.0f});
+    return records;
+}
+
+std::vector<Vec3> vertex_gradients(const GradientRecords& records, const std::vector<std::uint32_t>& blend,
+                                   std::size_t vertex_count) {
+    std::vector<Vec3> gradients(vertex_count, Vec3(0.0));
+    for (std::size_t i = 0; i < blend.size(); ++i)
+        gradients[blend[i]] = Vec3(records[i][0], records[i][1], records[i][2]);
+    return gradients;
+}
+
+void predict_midpoints(const StepMotion& half, const RegionParts& parts, const GradientRecords& gradients,
                        const std::vector<Vec3>& positions, std::vector<Vec3>& midpoints) {
     if (midpoints.size() != positions.size()) midpoints = positions;
     step_vertices(half, Stepper::midpoint_rule, parts, gradients, positions, midpoints);
@@ -386,7 +397,7 @@ StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
     return {motion.at(t, start), motion.at(t + 0.5 * h), motion.at(t + h, end), h};
 }
 
-void deformation_step(const StepMotion& motion, const RegionParts& parts, const std::vector<Vec3>& gradients,
+void deformation_step(const StepMotion& motion, const RegionParts& parts, const GradientRecords& gradients,
                       const std::vector<Vec3>& from, std::vector<Vec3>& to) {
     step_vertices(motion, Stepper::rk4, parts, gradients, from, to);
 }

@@ -45,34 +45,42 @@ struct RegionParts {
     static RegionParts of(const std::vector<double>& s, const VertexRings& rings);
 };
 
-// Gradient pass, eq. (6): per vertex x of the blend region, the gradient g of the
-// linear function r(y) = s(x) + g·(y − x) with g·n(x) = 0 that fits s best, in the
-// least-squares sense, on the 1-ring of x. ∇r is 0 outside the blend region: a
-// new `gradients` array is filled with 0 there, an old one keeps its entries.
-void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
-                        const std::vector<double>& s, const VertexRings& rings,
-                        const std::vector<std::uint32_t>& blend, std::vector<Vec3>& gradients);
-
 // Four floats in one SIMD register (GCC/Clang vector extension: SSE on x86-64,
 // simd128 in WebAssembly built with -msimd128, plain scalar code elsewhere).
 using Float4 = float __attribute__((vector_size(16)));
 
-// Work arrays of the smoothing pass: the blend region's gradients and normals as
-// packed float records (x, y, z, 0), in the order of RegionParts::blend. Float, as
-// the GPU's textures hold them; one 16-byte load and one vector add per neighbour.
+// ∇r on the blend region as packed float records (x, y, z, 0), record i for
+// vertex RegionParts::blend[i], as the passes hand it on: the gradient pass
+// writes it, the smoothing pass smooths it in place, the predictor and the
+// deformation pass read it (∇r is 0 elsewhere). Float, as the GPU's gradient
+// texture holds it; one 16-byte load per neighbour in the smoothing's sums.
+using GradientRecords = std::vector<Float4>;
+// Between records and one Vec3 per vertex (0 outside the blend region).
+GradientRecords gradient_records(const std::vector<Vec3>& gradients, const std::vector<std::uint32_t>& blend);
+std::vector<Vec3> vertex_gradients(const GradientRecords& records, const std::vector<std::uint32_t>& blend,
+                                   std::size_t vertex_count);
+
+// Gradient pass, eq. (6): per vertex x of the blend region, the gradient g of the
+// linear function r(y) = s(x) + g·(y − x) with g·n(x) = 0 that fits s best, in the
+// least-squares sense, on the 1-ring of x; gradients[i] for x = blend[i].
+void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                        const std::vector<double>& s, const VertexRings& rings, const std::vector<std::uint32_t>& blend,
+                        GradientRecords& gradients);
+
+// Work arrays of the smoothing pass: the next sweep's gradients and (for the
+// tangent smoothing) the blend region's normals, as packed float records.
 struct SmoothingScratch {
-    std::vector<Float4> gradients, next, normals;
+    std::vector<Float4> next, normals;
 };
 
 // Smoothing pass: `steps` Laplacian steps moving each gradient by `weight` toward
-// the mean gradient of its 1-ring neighbours with 0 < s < 1, on the blend region
-// only (∇r stays as it is elsewhere: 0 after the gradient pass). With `tangent`,
+// the mean gradient of its 1-ring neighbours with 0 < s < 1, in place. With `tangent`,
 // each step removes the normal part again (sec. 5 as printed); without, ∇r is
 // smoothed as a vector in space, so that neighbours across a crease or a bump
 // agree on one direction instead of each keeping to its own tangent plane
 // (docs/method.md, "Keeping the promise").
 void smooth_gradients(const std::vector<Vec3>& normals, const RegionParts& parts, int steps, double weight,
-                      bool tangent, std::vector<Vec3>& gradients, SmoothingScratch& scratch);
+                      bool tangent, GradientRecords& gradients, SmoothingScratch& scratch);
 
 // The motion at the three RK4 times of one step from t to t + h.
 struct StepMotion {
@@ -92,7 +100,7 @@ struct StepMotion {
 // first, and integrating back retraces the way forward (see docs/method.md).
 // Writes the inner and blend vertices; the outer region does not move, so a new
 // `midpoints` array starts as a copy of `positions` and an old one must hold them.
-void predict_midpoints(const StepMotion& half, const RegionParts& parts, const std::vector<Vec3>& gradients,
+void predict_midpoints(const StepMotion& half, const RegionParts& parts, const GradientRecords& gradients,
                        const std::vector<Vec3>& positions, std::vector<Vec3>& midpoints);
 
 // Deformation pass: one RK4 step of every vertex along v + ṽ (eqs. 1–4, 9–14)
@@ -100,7 +108,7 @@ void predict_midpoints(const StepMotion& half, const RegionParts& parts, const s
 // fixed over the step, from `from` into `to` (they may be the same array). Only
 // the inner and blend vertices are written: the outer ones stay where `to` has
 // them (v = 0 there).
-void deformation_step(const StepMotion& motion, const RegionParts& parts, const std::vector<Vec3>& gradients,
+void deformation_step(const StepMotion& motion, const RegionParts& parts, const GradientRecords& gradients,
                       const std::vector<Vec3>& from, std::vector<Vec3>& to);
 
 // RK4's own error over a step on the inner region's rigid motion, by step
