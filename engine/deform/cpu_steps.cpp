@@ -152,12 +152,12 @@ void CpuSteps::move(double time, double h, int step) {
     if (region_.sphere_tool) {
         next_ = positions_;
         deformation_step(motion, *region_.sphere_tool, next_);
+        check_finite(next_, step, time);
     } else {
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
-        deformation_step(motion, rest_->parts, gradients_, positions_, next_);
+        if (deformation_step(motion, rest_->parts, gradients_, positions_, next_) > 0) check_finite(next_, step, time);
     }
-    check_finite(next_, step, time);
 }
 
 // The first piece of a step: ∇r and the gauge where the step's middle is, and the
@@ -351,7 +351,8 @@ std::size_t CpuSteps::state_bytes() const {
            (rest_ ? rest_->bytes() : 0);
 }
 
-// Throws NumericalError at the first non-finite position among those the step moved.
+// Throws NumericalError at the first non-finite position among those the step
+// moved (the step counted some: deformation_step).
 void CpuSteps::check_finite(const std::vector<Vec3>& candidate, int step, double time) const {
     const auto check = [&](std::size_t v) {
         const Vec3& p = candidate[v];
@@ -362,14 +363,8 @@ void CpuSteps::check_finite(const std::vector<Vec3>& candidate, int step, double
         for (std::size_t v = 0; v < candidate.size(); ++v) check(v);
         return;
     }
-    for (const auto* part : {&rest_->parts.inner, &rest_->parts.blend}) {
-        const auto non_finite = parallel_sum(part->size(), [&](std::size_t i) {
-            const Vec3& p = candidate[(*part)[i]];
-            return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) ? 0.0 : 1.0;
-        });
-        if (non_finite > 0.0)  // the first in order, named
-            for (const std::uint32_t v : *part) check(v);
-    }
+    for (const auto* part : {&rest_->parts.inner, &rest_->parts.blend})  // the first in order, named
+        for (const std::uint32_t v : *part) check(v);
 }
 
 }  // namespace vfsd

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <iterator>
 #include <limits>
 #include <unordered_map>
@@ -344,9 +345,20 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const 
             }
         });
     }
+    // The flagged entries, eight flags at a time: on most steps none is set, and
+    // this runs on one thread.
     std::vector<std::uint32_t> out;
-    for (std::uint32_t i = 0; i < rest.check.size(); ++i)
-        if (flags_[i]) out.push_back(i);
+    const std::size_t n = rest.check.size();
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        std::uint64_t word;
+        std::memcpy(&word, flags_.data() + i, sizeof word);
+        if (word == 0) continue;
+        for (std::size_t k = i; k < i + 8; ++k)
+            if (flags_[k]) out.push_back(static_cast<std::uint32_t>(k));
+    }
+    for (; i < n; ++i)
+        if (flags_[i]) out.push_back(static_cast<std::uint32_t>(i));
     return out;
 }
 

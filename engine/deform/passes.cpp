@@ -1,6 +1,7 @@
 #include "deform/passes.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -65,14 +66,6 @@ AffineStep rigid_step(const StepMotion& m, Stepper stepper) {
     for (int axis = 0; axis < 3; ++axis) step.linear[axis] = step_from(step.x0 + step.linear[axis]) - step.image;
     step.linear = nearest_rotation(step.linear);
     return step;
-}
-
-// Calls body(v) for every listed vertex, on all threads.
-template <class Body>
-void for_each_vertex(const std::vector<std::uint32_t>& vertices, const Body& body) {
-    parallel_for(vertices.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) body(vertices[i]);
-    });
 }
 
 // Calls body(first, count) for consecutive blocks of at most kFieldLanes of the
@@ -152,24 +145,44 @@ void midpoint_lanes(const StepMotion& motion, const PreparedMotion (&m)[3], cons
     add_scaled(count, in.position, h, k, out);
 }
 
+bool is_finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
 // One step (RK4 or the midpoint rule) of the inner and blend vertices from
-// `from` into `to`, with r = s and ∇r fixed over the step.
-void step_vertices(const StepMotion& motion, Stepper stepper, const RegionParts& parts,
-                   const GradientRecords& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to) {
+// `from` into `to`, with r = s and ∇r fixed over the step; returns how many it
+// moved to a non-finite position.
+std::size_t step_vertices(const StepMotion& motion, Stepper stepper, const RegionParts& parts,
+                          const GradientRecords& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to) {
+    std::atomic<std::size_t> non_finite{0};
     const AffineStep rigid = rigid_step(motion, stepper);
-    for_each_vertex(parts.inner, [&](std::uint32_t v) { to[v] = rigid(from[v]); });
+    parallel_for(parts.inner.size(), [&](std::size_t first, std::size_t last) {
+        std::size_t count = 0;
+        for (std::size_t i = first; i < last; ++i) {
+            const std::uint32_t v = parts.inner[i];
+            to[v] = rigid(from[v]);
+            count += !is_finite(to[v]);
+        }
+        non_finite += count;
+    });
     const PreparedMotion m[3] = {PreparedMotion(motion.start), PreparedMotion(motion.middle),
                                  PreparedMotion(motion.end)};
-    for_each_block(parts.blend.size(), [&](std::size_t first, int count) {
-        BlendLanes lanes;
-        Lanes3 next;
-        lanes.gather(parts, first, count, gradients, from);
-        if (stepper == Stepper::rk4)
-            rk4_lanes(motion, m, lanes, count, next);
-        else
-            midpoint_lanes(motion, m, lanes, count, next);
-        scatter(next, parts.blend, first, count, to);
+    parallel_for(parts.blend.size(), [&](std::size_t first, std::size_t last) {
+        std::size_t count = 0;
+        for (std::size_t begin = first; begin < last; begin += kFieldLanes) {
+            const int n = static_cast<int>(std::min<std::size_t>(kFieldLanes, last - begin));
+            BlendLanes lanes;
+            Lanes3 next;
+            lanes.gather(parts, begin, n, gradients, from);
+            if (stepper == Stepper::rk4)
+                rk4_lanes(motion, m, lanes, n, next);
+            else
+                midpoint_lanes(motion, m, lanes, n, next);
+            for (int j = 0; j < n; ++j)
+                count += !(std::isfinite(next.x[j]) && std::isfinite(next.y[j]) && std::isfinite(next.z[j]));
+            scatter(next, parts.blend, begin, n, to);
+        }
+        non_finite += count;
     });
+    return non_finite;
 }
 
 bool in_blend(double s) { return s > 0.0 && s < 1.0; }
@@ -397,9 +410,9 @@ StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
     return {motion.at(t, start), motion.at(t + 0.5 * h), motion.at(t + h, end), h};
 }
 
-void deformation_step(const StepMotion& motion, const RegionParts& parts, const GradientRecords& gradients,
-                      const std::vector<Vec3>& from, std::vector<Vec3>& to) {
-    step_vertices(motion, Stepper::rk4, parts, gradients, from, to);
+std::size_t deformation_step(const StepMotion& motion, const RegionParts& parts, const GradientRecords& gradients,
+                             const std::vector<Vec3>& from, std::vector<Vec3>& to) {
+    return step_vertices(motion, Stepper::rk4, parts, gradients, from, to);
 }
 
 double rigid_step_error(const StepMotion& full, const StepMotion& first_half, const StepMotion& second_half,

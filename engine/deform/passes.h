@@ -107,9 +107,9 @@ void predict_midpoints(const StepMotion& half, const RegionParts& parts, const G
 // with r = s (the s that `parts` was made of) and ∇r = `gradients`, both held
 // fixed over the step, from `from` into `to` (they may be the same array). Only
 // the inner and blend vertices are written: the outer ones stay where `to` has
-// them (v = 0 there).
-void deformation_step(const StepMotion& motion, const RegionParts& parts, const GradientRecords& gradients,
-                      const std::vector<Vec3>& from, std::vector<Vec3>& to);
+// them (v = 0 there). Returns how many of them it moved to a non-finite position.
+std::size_t deformation_step(const StepMotion& motion, const RegionParts& parts, const GradientRecords& gradients,
+                             const std::vector<Vec3>& from, std::vector<Vec3>& to);
 
 // RK4's own error over a step on the inner region's rigid motion, by step
 // doubling: the largest distance between the step's map (`full`, from t by h)
