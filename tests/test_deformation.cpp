@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "base/rigid_fit.h"
@@ -14,6 +15,7 @@
 #include "field/vector_field.h"
 #include "mesh/builtin_meshes.h"
 #include "mesh/geometry.h"
+#include "mesh_fixtures.h"
 
 using namespace vfsd;
 
@@ -446,6 +448,63 @@ TEST_CASE("region parts list each blend vertex's blend neighbours", "[deform]") 
             listed.push_back(parts.blend[parts.blend_rings[k]]);
         CHECK(listed == expected);
     }
+}
+
+TEST_CASE(
+    "gradient pass: the vertices side by side give each one's own eq. (6) solve, bit for bit, on rings of any valence",
+    "[deformation][gradient]") {
+    // The pass sums four rings at once, padding the shorter ones; each vertex
+    // must get exactly what the least-squares fit over its own ring gives (as
+    // written out here), whatever the valences beside it: 3 to 20 in the zoo,
+    // listed in a shuffled order, and a vertex without a normal gives 0.
+    TriangleMesh mesh = fixtures::valence_zoo();
+    std::mt19937 random(5);
+    std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+    for (Vec3& p : mesh.positions) p += Vec3(jitter(random), jitter(random), jitter(random));
+    const VertexRings rings = build_vertex_rings(mesh);
+    std::vector<double> s;
+    for (const Vec3& p : mesh.positions) s.push_back(0.5 + 0.2 * std::sin(p.x) + 0.1 * p.z);
+    std::vector<std::uint32_t> blend(mesh.vertex_count());
+    for (std::uint32_t v = 0; v < blend.size(); ++v) blend[v] = v;
+    std::shuffle(blend.begin(), blend.end(), random);
+    std::vector<Vec3> normals, areas;
+    estimate_normals(mesh.positions, rings, normals);
+    normals[blend[5]] = Vec3(0.0);
+    GradientRecords gradients;
+    estimate_gradients(mesh.positions, normals, s, rings, blend, gradients);
+    REQUIRE(gradients.size() == blend.size());
+    int mismatched = 0, nonzero = 0;
+    for (std::size_t i = 0; i < blend.size(); ++i) {
+        const std::uint32_t v = blend[i];
+        const Vec3& n = normals[v];
+        Vec3 expected(0.0);
+        if (n != Vec3(0.0)) {
+            const double sign = std::copysign(1.0, n.z), a = -1.0 / (sign + n.z), b = n.x * n.y * a;
+            const Vec3 t1(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), t2(b, sign + n.y * n.y * a, -n.y);
+            double a11 = 0.0, a12 = 0.0, a22 = 0.0, r1 = 0.0, r2 = 0.0;
+            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+                const std::uint32_t w = rings.neighbours[k];
+                const double dx = mesh.positions[w].x - mesh.positions[v].x,
+                             dy = mesh.positions[w].y - mesh.positions[v].y,
+                             dz = mesh.positions[w].z - mesh.positions[v].z;
+                const double p1 = dx * t1.x + dy * t1.y + dz * t1.z, p2 = dx * t2.x + dy * t2.y + dz * t2.z,
+                             ds = s[w] - s[v];
+                a11 += p1 * p1, a12 += p1 * p2, a22 += p2 * p2, r1 += p1 * ds, r2 += p2 * ds;
+            }
+            const double scale = a11 + a22, det = a11 * a22 - a12 * a12;
+            if (det > 1e-6 * scale * scale) {
+                const double c1 = a22 * r1 - a12 * r2, c2 = a11 * r2 - a12 * r1;
+                expected =
+                    Vec3((c1 * t1.x + c2 * t2.x) / det, (c1 * t1.y + c2 * t2.y) / det, (c1 * t1.z + c2 * t2.z) / det);
+            }
+        }
+        const Float4 record{float(expected.x), float(expected.y), float(expected.z), 0.0f};
+        for (int c = 0; c < 4; ++c) mismatched += std::memcmp(&record[c], &gradients[i][c], sizeof(float)) != 0;
+        nonzero += expected != Vec3(0.0);
+    }
+    CHECK(mismatched == 0);
+    CHECK(nonzero > int(blend.size()) / 2);
+    CHECK(vertex_gradients(gradients, blend, mesh.vertex_count())[blend[5]] == Vec3(0.0));
 }
 
 TEST_CASE("gradient pass: a ring flatter than 1:1000 gives no gradient, a thin one the exact gradient",

@@ -220,26 +220,53 @@ void tangent_lanes(int count, GradientLanes& l) {
     }
 }
 
-// Σ p pᵀ and Σ p (s(y) − s(x)) over vertex v's ring, in lane j; zero sums (no
-// gradient) for a vertex without a normal. In scalars, as estimate_normals' ring
-// sums (mesh/geometry.cpp).
-void ring_sums(const Vec3* positions, const double* s, const VertexRings& rings, std::uint32_t v, int j,
-               GradientLanes& l) {
-    double a11 = 0.0, a12 = 0.0, a22 = 0.0, r1 = 0.0, r2 = 0.0;
-    if (l.normal.x[j] != 0.0 || l.normal.y[j] != 0.0 || l.normal.z[j] != 0.0) {
-        const double t1x = l.t1.x[j], t1y = l.t1.y[j], t1z = l.t1.z[j];
-        const double t2x = l.t2.x[j], t2y = l.t2.y[j], t2z = l.t2.z[j];
-        const double x = positions[v].x, y = positions[v].y, z = positions[v].z, sv = s[v];
-        const std::uint32_t* neighbours = rings.neighbours.data();
-        for (std::uint32_t k = rings.offsets[v], end = rings.offsets[v + 1]; k < end; ++k) {
-            const std::uint32_t w = neighbours[k];
-            const double dx = positions[w].x - x, dy = positions[w].y - y, dz = positions[w].z - z;
-            const double p1 = dx * t1x + dy * t1y + dz * t1z, p2 = dx * t2x + dy * t2y + dz * t2z, ds = s[w] - sv;
+// Σ p pᵀ and Σ p (s(y) − s(x)) over the rings of vertices[0 .. count), into
+// lanes 0 .. count; zero sums (no gradient) for a vertex without a normal. Four
+// vertices side by side: neighbour k of each of the four at once, a ring
+// shorter than the longest of the four padded with the vertex itself (d = 0
+// adds ±0 to every sum, which leaves it as it was), so that four rings' sums
+// run in SIMD lanes instead of one ring's five chains of additions one after
+// the other. Per vertex, the operations and their order are those of a loop
+// over its ring alone.
+constexpr int kRingLanes = 4;
+using Double4 = double __attribute__((vector_size(4 * sizeof(double))));  // as Float4 (deform/passes.h)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void ring_sums_lanes(const Vec3* positions, const double* s, const VertexRings& rings,
+                     const std::uint32_t* vertices, int count, GradientLanes& l) {
+    const std::uint32_t* neighbours = rings.neighbours.data();
+    for (int g = 0; g < count; g += kRingLanes) {
+        std::uint32_t vertex[kRingLanes], begin[kRingLanes], size[kRingLanes], most = 0;
+        Double4 x, y, z, sv, t1x, t1y, t1z, t2x, t2y, t2z;
+        for (int j = 0; j < kRingLanes; ++j) {
+            const int lane = g + j < count ? g + j : g;  // lanes past the end repeat the first, unused
+            const std::uint32_t v = vertices[lane];
+            const bool normal = l.normal.x[lane] != 0.0 || l.normal.y[lane] != 0.0 || l.normal.z[lane] != 0.0;
+            vertex[j] = v, begin[j] = rings.offsets[v];
+            size[j] = normal && g + j < count ? rings.offsets[v + 1] - begin[j] : 0;
+            most = std::max(most, size[j]);
+            x[j] = positions[v].x, y[j] = positions[v].y, z[j] = positions[v].z, sv[j] = s[v];
+            t1x[j] = l.t1.x[lane], t1y[j] = l.t1.y[lane], t1z[j] = l.t1.z[lane];
+            t2x[j] = l.t2.x[lane], t2y[j] = l.t2.y[lane], t2z[j] = l.t2.z[lane];
+        }
+        Double4 a11{}, a12{}, a22{}, r1{}, r2{};
+        for (std::uint32_t k = 0; k < most; ++k) {
+            std::uint32_t w[kRingLanes];
+            for (int j = 0; j < kRingLanes; ++j) w[j] = k < size[j] ? neighbours[begin[j] + k] : vertex[j];
+            const Double4 dx = Double4{positions[w[0]].x, positions[w[1]].x, positions[w[2]].x, positions[w[3]].x} - x;
+            const Double4 dy = Double4{positions[w[0]].y, positions[w[1]].y, positions[w[2]].y, positions[w[3]].y} - y;
+            const Double4 dz = Double4{positions[w[0]].z, positions[w[1]].z, positions[w[2]].z, positions[w[3]].z} - z;
+            const Double4 ds = Double4{s[w[0]], s[w[1]], s[w[2]], s[w[3]]} - sv;
+            const Double4 p1 = dx * t1x + dy * t1y + dz * t1z, p2 = dx * t2x + dy * t2y + dz * t2z;
             a11 += p1 * p1, a12 += p1 * p2, a22 += p2 * p2;
             r1 += p1 * ds, r2 += p2 * ds;
         }
+        for (int j = 0; j < kRingLanes && g + j < count; ++j) {
+            l.a11[g + j] = a11[j], l.a12[g + j] = a12[j], l.a22[g + j] = a22[j];
+            l.r1[g + j] = r1[j], l.r2[g + j] = r2[j];
+        }
     }
-    l.a11[j] = a11, l.a12[j] = a12, l.a22[j] = a22, l.r1[j] = r1, l.r2[j] = r2;
 }
 
 // The 2×2 systems' solutions g = c1 t1 + c2 t2 in each lane, or 0 where kFlatRing rejects it.
@@ -348,7 +375,7 @@ void estimate_gradients(const std::vector<Vec3>& positions, const std::vector<Ve
             lanes.normal.x[j] = n.x, lanes.normal.y[j] = n.y, lanes.normal.z[j] = n.z;
         }
         tangent_lanes(count, lanes);
-        for (int j = 0; j < count; ++j) ring_sums(positions.data(), s.data(), rings, blend[first + j], j, lanes);
+        ring_sums_lanes(positions.data(), s.data(), rings, blend.data() + first, count, lanes);
         solve_lanes(count, lanes);
         for (int j = 0; j < count; ++j)
             gradients[first + j] =
