@@ -197,9 +197,10 @@ bool in_blend(double s) { return s > 0.0 && s < 1.0; }
 // threshold float resolves, so that both passes call the same rings singular.
 constexpr double kFlatRing = 1e-6;
 
-// The gradient pass on a block of blend vertices, in three parts: the tangent
-// bases and the solutions in SIMD lanes (their divisions bound a loop that
-// takes one vertex at a time), the ring sums between them one vertex at a time.
+// The gradient pass on a block of blend vertices, in three parts, each in SIMD
+// lanes: the tangent bases and the solutions (their divisions bound a loop that
+// takes one vertex at a time), and between them the ring sums, four vertices
+// side by side.
 struct GradientLanes {
     Lanes3 normal, t1, t2, gradient;
     double a11[kFieldLanes], a12[kFieldLanes], a22[kFieldLanes], r1[kFieldLanes], r2[kFieldLanes];
