@@ -450,6 +450,19 @@ TEST_CASE("region parts list each blend vertex's blend neighbours", "[deform]") 
     }
 }
 
+namespace {
+
+// The valence zoo (rings of valence 3 to 20), each vertex moved at random.
+TriangleMesh jittered_valence_zoo(unsigned seed) {
+    TriangleMesh mesh = fixtures::valence_zoo();
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+    for (Vec3& p : mesh.positions) p += Vec3(jitter(random), jitter(random), jitter(random));
+    return mesh;
+}
+
+}  // namespace
+
 TEST_CASE(
     "gradient pass: the vertices side by side give each one's own eq. (6) solve, bit for bit, on rings of any valence",
     "[deformation][gradient]") {
@@ -457,10 +470,8 @@ TEST_CASE(
     // must get exactly what the least-squares fit over its own ring gives (as
     // written out here), whatever the valences beside it: 3 to 20 in the zoo,
     // listed in a shuffled order, and a vertex without a normal gives 0.
-    TriangleMesh mesh = fixtures::valence_zoo();
+    const TriangleMesh mesh = jittered_valence_zoo(5);
     std::mt19937 random(5);
-    std::uniform_real_distribution<double> jitter(-0.05, 0.05);
-    for (Vec3& p : mesh.positions) p += Vec3(jitter(random), jitter(random), jitter(random));
     const VertexRings rings = build_vertex_rings(mesh);
     std::vector<double> s;
     for (const Vec3& p : mesh.positions) s.push_back(0.5 + 0.2 * std::sin(p.x) + 0.1 * p.z);
@@ -505,6 +516,55 @@ TEST_CASE(
     CHECK(mismatched == 0);
     CHECK(nonzero > int(blend.size()) / 2);
     CHECK(vertex_gradients(gradients, blend, mesh.vertex_count())[blend[5]] == Vec3(0.0));
+}
+
+TEST_CASE("smoothing pass: each sweep moves each ∇r by w toward its ring's mean, bit for bit, on rings of any valence",
+          "[deformation][smoothing]") {
+    // The pass unrolls the rings of the common valences (5, 6, 7) and loops over
+    // the others; every vertex must get exactly what the sweep written out here
+    // gives, in float records as the pass keeps them: 3 to 20 neighbours in the
+    // zoo, in space and tangent.
+    const TriangleMesh mesh = jittered_valence_zoo(7);
+    std::mt19937 random(7);
+    const VertexRings rings = build_vertex_rings(mesh);
+    const std::vector<double> s(mesh.vertex_count(), 0.5);  // every vertex in the blend region
+    const RegionParts parts = RegionParts::of(s, rings);
+    REQUIRE(parts.blend.size() == mesh.vertex_count());
+    std::vector<Vec3> normals;
+    estimate_normals(mesh.positions, rings, normals);
+    std::vector<Vec3> start(mesh.vertex_count());
+    std::uniform_real_distribution<float> component(-1.0f, 1.0f);  // floats, which the records hold exactly
+    for (Vec3& g : start) g = Vec3(component(random), component(random), component(random));
+    std::vector<int> valences;
+    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) valences.push_back(int(rings.end(v) - rings.begin(v)));
+    for (const int valence : {3, 5, 6, 7, 12}) CHECK(std::count(valences.begin(), valences.end(), valence) > 0);
+    const float w = 0.3f;
+    for (const bool tangent : {false, true}) {
+        const auto record = [](const Vec3& v) { return Float4{float(v.x), float(v.y), float(v.z), 0.0f}; };
+        std::vector<Float4> expected;
+        for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) expected.push_back(record(start[v]));
+        for (int sweep = 0; sweep < 3; ++sweep) {
+            std::vector<Float4> next(expected.size());
+            for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+                Float4 g = expected[v], sum{};
+                for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) sum += expected[rings.neighbours[k]];
+                g += (w / float(rings.end(v) - rings.begin(v))) * sum - w * g;
+                if (tangent) {
+                    const Float4 n = record(normals[v]), product = g * n;
+                    g -= (product[0] + product[1] + product[2]) * n;
+                }
+                next[v] = g;
+            }
+            expected = next;
+        }
+        GradientRecords smoothed = gradient_records(start, parts.blend);
+        SmoothingScratch scratch;
+        smooth_gradients(normals, parts, 3, w, tangent, smoothed, scratch);
+        int mismatched = 0;
+        for (std::size_t i = 0; i < parts.blend.size(); ++i)
+            mismatched += std::memcmp(&smoothed[i], &expected[parts.blend[i]], sizeof(Float4)) != 0;
+        CHECK(mismatched == 0);
+    }
 }
 
 TEST_CASE("gradient pass: a ring flatter than 1:1000 gives no gradient, a thin one the exact gradient",

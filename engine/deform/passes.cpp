@@ -290,32 +290,45 @@ void solve_lanes(int count, GradientLanes& l) {
 // Ring sizes up to this take w / size from a table in the smoothing pass.
 constexpr int kTabledRing = 64;
 
+// Σ records[ring[k]] for k = 0 .. size − 1, in that order from 0 (as a loop
+// over the ring adds them); size a constant where with_ring_size makes it one.
+template <class Size>
+[[gnu::always_inline]] inline Float4 ring_sum(const Float4* records, const std::uint32_t* ring, Size size) {
+    Float4 sum{};
+    const std::uint32_t n = size;
+#pragma GCC unroll 8
+    for (std::uint32_t k = 0; k < n; ++k) sum += records[ring[k]];
+    return sum;
+}
+
 // One smoothing step over the blend region, from `from` into scratch.next (smooth_gradients below); `tangent` a
 // template argument, so that the loop does not test it per vertex.
 template <bool tangent>
 void smoothing_sweep(const RegionParts& parts, float w, const float (&share)[kTabledRing], const GradientRecords& from,
                      SmoothingScratch& scratch) {
     parallel_for(parts.blend.size(), [&](std::size_t first, std::size_t last) {
+        // Local copies: the loop then keeps them in registers.
         const Float4* gradients = from.data();
-        const std::uint32_t* rings = parts.blend_rings.data();
+        const std::uint32_t *rings = parts.blend_rings.data(), *offsets = parts.blend_ring_offsets.data();
+        Float4* next = scratch.next.data();
+        const float weight = w, *shares = share;
         for (std::size_t i = first; i < last; ++i) {
             // Average over the neighbours inside the blend region only: outside it
             // s is constant, ∇r there carries no information, and mixing it in
             // would shrink ∇r along the region's borders.
-            const std::uint32_t begin = parts.blend_ring_offsets[i], end = parts.blend_ring_offsets[i + 1];
+            const std::uint32_t begin = offsets[i], end = offsets[i + 1];
             Float4 g = gradients[i];
             if (end > begin) {
-                Float4 sum{};
-                for (std::uint32_t k = begin; k < end; ++k) sum += gradients[rings[k]];
                 const std::uint32_t count = end - begin;
-                g += (count < kTabledRing ? share[count] : w / float(count)) * sum - w * g;
+                const Float4 sum = with_ring_size(count, [&](auto n) { return ring_sum(gradients, rings + begin, n); });
+                g += (count < kTabledRing ? shares[count] : weight / float(count)) * sum - weight * g;
             }
             if (tangent) {
                 const Float4 normal = scratch.normals[i];
                 const Float4 product = g * normal;
                 g -= (product[0] + product[1] + product[2]) * normal;
             }
-            scratch.next[i] = g;
+            next[i] = g;
         }
     });
 }

@@ -56,28 +56,37 @@ Vec3 unit_or_zero(const Vec3& v) {
 
 // ring_area_vector in scalars: glm's cross products of Vec3 temporaries went
 // through the stack (store-to-load stalls), twice the time; the same operations
-// in the same order, so the same bits.
-inline Vec3 ring_area_sum(const Vec3* positions, const VertexRings& rings, std::uint32_t v) {
-    const std::uint32_t begin = rings.offsets[v], end = rings.offsets[v + 1];
-    const std::uint32_t* neighbours = rings.neighbours.data();
-    const std::uint8_t* wedge = rings.wedge.data();
-    const double x = positions[v].x, y = positions[v].y, z = positions[v].z;
+// in the same order, so the same bits. Over the ring's `size` neighbours from
+// ring[0], with size a constant where with_ring_size makes it one.
+template <class Size>
+[[gnu::always_inline]] inline Vec3 wedge_sum(const Vec3* positions, const std::uint32_t* ring,
+                                             const std::uint8_t* wedge, const Vec3& centre, Size size) {
+    const double x = centre.x, y = centre.y, z = centre.z;
+    const std::uint32_t n = size;
     double sx = 0.0, sy = 0.0, sz = 0.0;
-    if (begin == end) return Vec3(0.0);
     // Each neighbour loaded once: the second edge b − x of one wedge is the first of the next.
-    double ax = positions[neighbours[begin]].x - x, ay = positions[neighbours[begin]].y - y,
-           az = positions[neighbours[begin]].z - z;
-    for (std::uint32_t i = begin; i < end; ++i) {
-        const Vec3& b = positions[neighbours[i + 1 == end ? begin : i + 1]];
+    double ax = positions[ring[0]].x - x, ay = positions[ring[0]].y - y, az = positions[ring[0]].z - z;
+#pragma GCC unroll 8
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const Vec3& b = positions[ring[i + 1 == n ? 0 : i + 1]];
         const double bx = b.x - x, by = b.y - y, bz = b.z - z;
-        if (wedge[i]) {
-            sx += ay * bz - by * az;  // (a − x) × (b − x): twice the triangle's area times its normal
-            sy += az * bx - bz * ax;
-            sz += ax * by - bx * ay;
-        }
+        // (a − x) × (b − x): twice the triangle's area times its normal; −0 where the
+        // wedge is open (x + (−0) is x, bit for bit, for every x), so no branch.
+        const bool closed = wedge[i];
+        sx += closed ? ay * bz - by * az : -0.0;
+        sy += closed ? az * bx - bz * ax : -0.0;
+        sz += closed ? ax * by - bx * ay : -0.0;
         ax = bx, ay = by, az = bz;
     }
     return Vec3(sx, sy, sz);
+}
+
+[[gnu::always_inline]] inline Vec3 ring_area_sum(const Vec3* positions, const VertexRings& rings, std::uint32_t v) {
+    const std::uint32_t begin = rings.offsets[v], size = rings.offsets[v + 1] - begin;
+    if (size == 0) return Vec3(0.0);
+    const std::uint32_t* ring = rings.neighbours.data() + begin;
+    const std::uint8_t* wedge = rings.wedge.data() + begin;
+    return with_ring_size(size, [&](auto n) { return wedge_sum(positions, ring, wedge, positions[v], n); });
 }
 
 constexpr int kNormalLanes = 64;
