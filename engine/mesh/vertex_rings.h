@@ -38,8 +38,8 @@ struct VertexRings {
 // for the valences most rings have, 5 to 7, and as the ring's size otherwise:
 // a loop over a ring of constant size is unrolled. A loop whose trip count
 // varies from vertex to vertex is ended by a branch that the predictor misses
-// on nearly every ring of an irregular mesh; the ring passes took up to twice
-// as long (docs/benchmarks.md, "Rings unrolled by valence").
+// on nearly every ring of an irregular mesh: the smoothing took more than
+// twice as long on the armadillo (docs/benchmarks.md, "Rings unrolled by valence").
 template <class Visit>
 [[gnu::always_inline]] inline auto with_ring_size(std::uint32_t size, const Visit& visit) {
     if (size == 6) return visit(std::integral_constant<std::uint32_t, 6>{});
