@@ -91,6 +91,29 @@ export function cpuSeconds(userData) {
   return procs.filter((p) => mine.has(p.pid)).reduce((sum, p) => sum + p.cpu, 0);
 }
 
+// Records the times of the browser's own frames (requestAnimationFrame
+// callbacks, window.browserFrames) until stopBrowserFrames: whether the page
+// keeps rendering while a run holds its last image. Not left running: a loop
+// of animation frames keeps an idle page rendering.
+export async function recordBrowserFrames(page) {
+  await page.evaluate(() => {
+    window.browserFrames = [];
+    window.browserFramesOn = true;
+    const tick = (t) => {
+      window.browserFrames.push(t);
+      if (window.browserFramesOn) requestAnimationFrame(tick);
+    };
+    requestAnimationFrame(tick);
+  });
+}
+
+export async function stopBrowserFrames(page) {
+  return page.evaluate(() => {
+    window.browserFramesOn = false;
+    return window.browserFrames;
+  });
+}
+
 // From now on, records in the page the times of the drawn frames (window.frameTimes)
 // and the main thread's long tasks, [start, duration] each (window.longTasks;
 // over 50 ms: a frame the page could not answer in). Called again, it starts

@@ -6,8 +6,10 @@
 // - a region edit: a new geodesic seed picked (the pick command).
 // For each, the time from the edit to t = 1 reached, the steps, the main thread's
 // longest task (the edit's command included: it is timed in the page, since the
-// long-task observer does not see a task a test starts) and the longest gap
-// between drawn frames meanwhile, on the CPU path
+// long-task observer does not see a task a test starts), the longest gap
+// between drawn frames meanwhile (and, with VFSD_BROWSER_FRAMES=1, between the
+// browser's own frames, which go on while the page holds its last image), on
+// the CPU path
 // (wasm, one thread) and the GPU path (WebGL2; SwiftShader here, a software
 // renderer), and then what a drawn frame costs there (the view turned). With
 // VFSD_NATIVE set to a native `vfsd`, the page's edited scene is also timed
@@ -21,7 +23,7 @@ import { execFileSync } from 'node:child_process';
 import { mkdtempSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { openPage, recordFrames } from './harness.mjs';
+import { openPage, recordBrowserFrames, recordFrames, stopBrowserFrames } from './harness.mjs';
 
 // Native: the scene's curve edit and region edit in ms (medians of three), on
 // `threads` threads (0: all).
@@ -41,9 +43,15 @@ function native(scene, threads) {
   return { curve: Number(f[6]), region: Number(f[8]), steps: Number(f[10]) };
 }
 
+// VFSD_BROWSER_FRAMES=1: the browser's own frames recorded too. Not by default:
+// a loop of animation frames makes the browser render every frame, on a
+// software renderer at a cost to the run (docs/web.md, "Browser frames").
+const browserFramesAsked = process.env.VFSD_BROWSER_FRAMES === '1';
+
 // Runs `edit` on the page and waits until the deformation is back at t = 1.
 async function timeEdit(page, edit, argument) {
   await recordFrames(page);
+  if (browserFramesAsked) await recordBrowserFrames(page);
   const start = await page.evaluate(() => performance.now());
   // The edit's command runs in a task of its own (a pointer event's, in use),
   // which the long-task observer does not see when a test calls it: timed here.
@@ -53,13 +61,21 @@ async function timeEdit(page, edit, argument) {
     return st.stats.time === 1 && !st.moving;
   }, null, { polling: 10, timeout: 300000 });
   const done = await page.evaluate(() => performance.now());
+  const browserFrames = browserFramesAsked ? (await stopBrowserFrames(page)).filter((t) => t >= start && t <= done) : [];
   const frames = await page.evaluate(() => window.frameTimes);
   const tasks = (await page.evaluate(() => window.longTasks)).map(([, ms]) => ms);
-  let gap = 0;
-  for (let i = 1; i < frames.length; ++i) gap = Math.max(gap, frames[i] - frames[i - 1]);
+  const longestGap = (times) => {
+    let gap = 0;
+    for (let i = 1; i < times.length; ++i) gap = Math.max(gap, times[i] - times[i - 1]);
+    return gap;
+  };
+  const gap = longestGap(frames);
+  // The browser's frames from the edit to t = 1, the edit and t = 1 included as their ends.
+  const browserGap = longestGap([start, ...browserFrames, done]);
   const stats = await page.evaluate(() => window.vfsd.stats());
   const scene = await page.evaluate(() => window.vfsd.exportScene());
-  return { ms: done - start, frames: frames.length, gap, task: Math.max(0, command, ...tasks), command, stats, scene };
+  return { ms: done - start, frames: frames.length, gap, browserGap, browserFrames: browserFrames.length,
+           task: Math.max(0, command, ...tasks), command, stats, scene };
 }
 
 // A drawn frame's cost: the view turned between two presets, a frame waited on, ten times.
@@ -97,7 +113,9 @@ for (const mesh of meshes) {
       for (const [name, e] of edits) {
         if (e.stats.backend !== backend) throw new Error(`?backend=${backend} ran on ${e.stats.backend}`);
         let line = `${mesh} page ${backend}, ${name}: t = 1 in ${e.ms.toFixed(0)} ms (${e.stats.ms_per_step.toFixed(2)} ms/step, ` +
-                   `${e.frames} frames drawn, longest gap between them ${e.gap.toFixed(0)} ms, longest task ${e.task.toFixed(0)} ms, ` +
+                   `${e.frames} frames drawn, longest gap between them ${e.gap.toFixed(0)} ms, ` +
+                   (browserFramesAsked ? `${e.browserFrames} browser frames, longest gap ${e.browserGap.toFixed(0)} ms, ` : '') +
+                   `longest task ${e.task.toFixed(0)} ms, ` +
                    `the edit's command ${e.command.toFixed(0)} ms)`;
         if (backend === 'cpu' && process.env.VFSD_NATIVE) {
           const key = name === 'curve edit' ? 'curve' : 'region';
