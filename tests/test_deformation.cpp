@@ -478,7 +478,7 @@ TEST_CASE(
     std::vector<std::uint32_t> blend(mesh.vertex_count());
     for (std::uint32_t v = 0; v < blend.size(); ++v) blend[v] = v;
     std::shuffle(blend.begin(), blend.end(), random);
-    std::vector<Vec3> normals, areas;
+    std::vector<Vec3> normals;
     estimate_normals(mesh.positions, rings, normals);
     normals[blend[5]] = Vec3(0.0);
     GradientRecords gradients;
