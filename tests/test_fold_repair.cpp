@@ -155,19 +155,87 @@ TEST_CASE("the volume is kept after every step, the steps the repair moved verti
     CHECK(worst < 0.005);
 }
 
-TEST_CASE("the affine test runs every 1/5 in time, whatever the steps and either way", "[deform][repair]") {
-    for (const int steps : {1, 3, 5, 10, 20, 25, 250, 1000}) {
-        int due = 0, due_back = 0;
+TEST_CASE("the repair runs every 1/20 in time and its affine test every 1/5, whatever the steps and either way",
+          "[deform][repair]") {
+    for (const int steps : {1, 3, 5, 10, 20, 25, 40, 250, 1000}) {
+        int due = 0, due_back = 0, affine = 0, affine_back = 0;
         for (int k = 0; k < steps; ++k) {
             const double from = double(k) / steps, to = double(k + 1) / steps;
-            due += FoldRepair::affine_test_due(from, to);
-            due_back += FoldRepair::affine_test_due(to, from);
+            due += FoldRepair::repair_due(from, to);
+            due_back += FoldRepair::repair_due(to, from);
+            affine += FoldRepair::affine_test_due(from, to);
+            affine_back += FoldRepair::affine_test_due(to, from);
+            if (FoldRepair::affine_test_due(from, to)) CHECK(FoldRepair::repair_due(from, to));
         }
         INFO(steps << " steps");
-        CHECK(due == std::min(steps, 5));  // every step passes one at 5 or fewer
+        CHECK(due == std::min(steps, FoldRepair::kRepairTimes));  // every step passes one at 20 or fewer
+        CHECK(affine == std::min(steps, 5));
         CHECK(due_back == due);
-        CHECK(FoldRepair::affine_test_due(double(steps - 1) / steps, 1.0));  // the last step, t = 1, is tested
+        CHECK(affine_back == affine);
+        CHECK(FoldRepair::repair_due(double(steps - 1) / steps, 1.0));  // the last step, t = 1, is repaired
+        CHECK(FoldRepair::affine_test_due(double(steps - 1) / steps, 1.0));
     }
+    // The repair time a forward step passes (strictly inside it), where a
+    // controlled step that folded lands.
+    CHECK(FoldRepair::repair_time_within(0.04, 0.06) == 0.05);
+    CHECK(FoldRepair::repair_time_within(0.0, 0.2) == 0.05);    // the first of those it passes
+    CHECK(FoldRepair::repair_time_within(0.04, 0.05) == -1.0);  // ends on it
+    CHECK(FoldRepair::repair_time_within(0.05, 0.07) == -1.0);  // starts on it
+    CHECK(FoldRepair::repair_time_within(0.06, 0.04) == -1.0);  // back
+    CHECK(FoldRepair::repair_time_within(0.9, 1.0) == 0.95);
+}
+
+TEST_CASE(
+    "a controlled step that passes a repair time and folds is tried again to end on it; without folds, no step "
+    "more",
+    "[deform][repair][steps]") {
+    Scene scene = test::folding_box_scene();  // folds at most steps without the repair
+    scene.options.repair_folds = true;
+    for (const int steps : {40, 250, 1000}) {
+        scene.options.steps = steps;
+        Deformation d = prepare_scene(scene).start_deformation();
+        d.advance(1.0);
+        INFO(steps << " fixed steps: repaired after " << d.fold_repairs().steps_repaired);
+        CHECK(d.fold_repairs().steps_repaired > 0);
+        CHECK(d.fold_repairs().steps_repaired <= std::size_t(FoldRepair::kRepairTimes));
+    }
+    scene.options.tolerance = 5e-4;
+    Deformation d = prepare_scene(scene).start_deformation();
+    REQUIRE(d.error_controlled());
+    d.advance(1.0);
+    const std::vector<StepTry>& tries = d.step_tries();
+    std::size_t landings = 0;
+    for (std::size_t k = 0; k + 1 < tries.size(); ++k) {
+        const StepTry& t = tries[k];
+        if (t.taken || t.error > scene.options.tolerance) continue;  // taken, or over the tolerance
+        ++landings;  // under the tolerance, not taken: it passed a repair time and folded
+        const double land = FoldRepair::repair_time_within(t.time, t.time + t.length);
+        REQUIRE(land > 0.0);
+        const StepTry& next = tries[k + 1];
+        CHECK(next.time == t.time);
+        CHECK(next.taken);
+        CHECK(std::abs(next.time + next.length - land) < 1e-12);
+    }
+    INFO(tries.size() << " tries, " << landings << " landed on a repair time");
+    CHECK(landings > 0);
+    CHECK(d.fold_repairs().steps_repaired <= std::size_t(FoldRepair::kRepairTimes));
+
+    // Where nothing folds, the repair costs no step: fig. 4's bend takes the same
+    // steps and gives the same result, bit for bit, with it and without.
+    Scene bend = load_scene(std::string(VFSD_SOURCE_DIR) + "/assets/scenes/fig04-box-bend.json");
+    bend.options.tolerance = 5e-4;
+    std::vector<std::vector<Vec3>> results;
+    std::vector<std::size_t> taken;
+    for (const bool repair : {true, false}) {
+        bend.options.repair_folds = repair;
+        Deformation run = prepare_scene(bend).start_deformation();
+        run.advance(1.0);
+        REQUIRE(run.fold_repairs().steps_repaired == 0);
+        results.push_back(run.positions());
+        taken.push_back(run.step_milliseconds().size());
+    }
+    CHECK(taken[0] == taken[1]);
+    CHECK(results[0] == results[1]);
 }
 
 TEST_CASE("the fold repair moves only blend vertices", "[deform][repair]") {

@@ -127,15 +127,33 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     // The volume drift is undone after every step, while it is small and smooth
     // (restoring it every few steps folded thin features); it is then part of
     // the step's map, and a step back undoes it as well.
-    volume_restored_ += std::abs(rest_->volume.restore(positions_, area_vectors_));
-    // Then the fold repair, which sees what the keeper's move folded too (a
-    // needle's corner pushed across its base). A repair moves vertices up to an
-    // edge: the keeper's ∂V/∂x from the step's midpoint no longer describes
-    // their rings, so it takes them where they are, before each of its Newton
-    // steps; what those fold in turn is repaired again, up to kRepairCycles times.
+    const double restored = std::abs(rest_->volume.restore(positions_, area_vectors_));
+    volume_restored_ += restored;
+    // Then, at the fold repair's times, the repair, which sees what the keeper's
+    // move folded too (a needle's corner pushed across its base).
+    if (!FoldRepair::repair_due(time, time + h)) return result;
     const bool affine_test = FoldRepair::affine_test_due(time, time + h);
+    // An error-controlled step that passed the repair's time and folded is
+    // tried again to end there: a rejected try, it leaves the positions as
+    // they were. One that did not fold needs no repair.
+    const double land_at = std::isfinite(max_error) ? FoldRepair::repair_time_within(time, time + h) : -1.0;
+    if (land_at > 0.0) {
+        const bool affine_at_land = FoldRepair::affine_test_due(time, land_at);
+        if (fold_repair_.count_folds(positions_, rest_->rings, affine_at_land) > 0) {
+            positions_.swap(next_);
+            volume_restored_ -= restored;
+            return {false, result.error, false, land_at};
+        }
+        if (affine_at_land || !affine_test) return result;  // tested as the repair would: nothing folded
+    }
+    // A repair moves vertices up to an edge: the keeper's ∂V/∂x from the step's
+    // midpoint no longer describes their rings, so it takes them where they
+    // are, before each of its Newton steps; what those fold in turn is repaired
+    // again, up to kRepairCycles times.
     for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
         fold_repair_.repair(positions_, rest_->rings, affine_test && cycle == 0, cycle == 0);
+        if (cycle == 0 && fold_repair_.acted() && std::isfinite(max_error))
+            result.land_at = FoldRepair::next_repair_time(time + h);
         if (!fold_repair_.acted() || !rest_->volume.active()) break;
         for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
             ring_area_vectors(positions_, rest_->rings, rest_->parts.blend, area_vectors_);

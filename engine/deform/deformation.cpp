@@ -83,8 +83,10 @@ double Deformation::next_time(double target, bool& controlled) const {
     if (after != grid_.end()) return std::min(*after, target);
     controlled = true;  // forward from the last time reached: a new step
     const auto join = std::upper_bound(joins_.begin(), joins_.end(), time_ + StepControl::kShortestStep);
-    // The next time a step must end on: a join, the target or t = 1.
-    const double landing = std::min(join != joins_.end() ? *join : 1.0, target);
+    // The next time a step must end on: a join, the target or t = 1, or the
+    // repair's time a try passed and folded.
+    double landing = std::min(join != joins_.end() ? *join : 1.0, target);
+    if (forced_landing_ > time_) landing = std::min(landing, forced_landing_);
     // Within a fifth of a step of it, the step reaches it rather than leave a
     // sliver (a step from 0.35 of 0.05 ends at 0.39999999999999997, and one of
     // 5.6e-17 would follow to reach 0.4).
@@ -127,6 +129,8 @@ void Deformation::note_step(double next, bool controlled, const StepResult& resu
     }
     if (!controlled) return;
     tries_.push_back({time_, h, result.error, result.taken});
+    if (result.land_at > time_) forced_landing_ = result.land_at;
+    if (!result.taken && result.land_at > time_) return;  // not rejected: tried again to the repair's time
     if (!result.taken) {
         ++errors_.rejected;
         next_length_ = StepControl::retry_length(h, std::max(result.error, 0.0), options_.tolerance);

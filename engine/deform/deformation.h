@@ -134,6 +134,11 @@ struct StepResult {
     // prepare_step only: the device has not finished the last piece's passes,
     // and this call did nothing.
     bool waiting = false;
+    // A fold repair's time the next error-controlled step ends on (−1: none;
+    // deform/fold_repair.h): not taken, the step passed it and left a fold,
+    // and is tried again to end there; taken, the repair acted after it, and
+    // the next repair time, where it likely acts again, is landed on at once.
+    double land_at = -1.0;
 };
 
 // What Deformation::prepare_step did.
@@ -261,6 +266,7 @@ private:
     bool controlled_ = false;
     std::vector<double> grid_{0.0};
     std::vector<double> joins_;
+    double forced_landing_ = -1.0;  // a repair time the next controlled step ends on (StepResult::land_at)
     double next_length_ = StepControl::kFirstStep;
     bool just_rejected_ = false;
     StepErrors errors_;

@@ -209,9 +209,26 @@ void FoldRepair::prepare_affine_test(const VertexRings& rings) {
     });
 }
 
-bool FoldRepair::affine_test_due(double from, double to) {
-    const double a = std::min(from, to) * kAffineTests, b = std::max(from, to) * kAffineTests;
+namespace {
+// Whether a step from `from` to `to` (either way) passes a multiple of 1/per_unit.
+bool passes_multiple(double from, double to, double per_unit) {
+    const double a = std::min(from, to) * per_unit, b = std::max(from, to) * per_unit;
     return std::floor(b + 1e-9) > std::floor(a + 1e-9);
+}
+}  // namespace
+
+bool FoldRepair::repair_due(double from, double to) { return passes_multiple(from, to, kRepairTimes); }
+
+bool FoldRepair::affine_test_due(double from, double to) { return passes_multiple(from, to, kAffineTests); }
+
+double FoldRepair::next_repair_time(double time) {
+    const double next = (std::floor(time * kRepairTimes + 1e-9) + 1.0) / kRepairTimes;
+    return next < 1.0 - 1e-9 ? next : -1.0;
+}
+
+double FoldRepair::repair_time_within(double from, double to) {
+    const double first = next_repair_time(from);
+    return to > from && first > 0.0 && first < to - 1e-9 ? first : -1.0;
 }
 
 std::vector<std::uint32_t> FoldRepair::affine_folded(const std::vector<Vec3>& x, const VertexRings& rings) {
@@ -306,6 +323,14 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const 
         if (by_neighbours || affine_flags_[i]) both.push_back(i);
     }
     return both;
+}
+
+std::size_t FoldRepair::count_folds(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test) {
+    if (!active()) return 0;
+    std::size_t neighbour = 0;
+    const std::size_t count = folded(x, rings, affine_test, nullptr, neighbour).size();
+    std::vector<StarSums>().swap(sums_);  // held only while a repair runs
+    return count;
 }
 
 // The at_rest_->check entries (positions in at_rest_->check) whose triangle faces against the mean

@@ -115,8 +115,9 @@ namespace {
 // The step of CpuSteps::step, pass for pass. With the paper's steps alone it
 // reads nothing back; the stream gauge's fit reads its samples back (two texels
 // each) once per step and fits on the CPU, and the fold test reads one texel per
-// step; the positions are read back, for the CPU's repair, only after a step
-// that folded or one the repair's affine test is due after (every 1/5 in time).
+// step the repair is due after (every 1/20 in time); the positions are read
+// back, for the CPU's repair, only after such a step that folded or one the
+// repair's affine test is due after (every 1/5 in time).
 class GpuSteps final : public StepBackend {
 public:
     // With a shelf, the set-up a deformation of the same mesh, region and options
@@ -170,16 +171,35 @@ public:
             run_stage(t);
             if (!t.result.taken) return std::exchange(try_, std::nullopt)->result;
         }
-        const StepResult result = t.result;
+        StepResult result = t.result;
         try_.reset();
+        // CpuSteps::step's order: the keeper (in the staged step), then, at the
+        // repair's times, the landing of a controlled step that passed one and
+        // folded, or the repair and the keeper's Newton steps where it left the
+        // rings, again while the repair acts.
+        bool due = FoldRepair::repair_due(time, time + h);
+        const bool affine_test = due && FoldRepair::affine_test_due(time, time + h);
+        const double land_at = due && std::isfinite(max_error) ? FoldRepair::repair_time_within(time, time + h) : -1.0;
+        if (land_at > 0.0) {
+            const bool affine_at_land = FoldRepair::affine_test_due(time, land_at);
+            if (staged_folds(affine_at_land) > 0) {
+                passes().discard_step();
+                folds_tested_ = false;
+                return {false, result.error, false, land_at};
+            }
+            if (affine_at_land || !affine_test) due = false;  // tested as the repair would: nothing folded
+        }
         passes().commit_step();
         positions_valid_ = false;
-        // CpuSteps::step's order: the keeper (in the staged step), then the
-        // repair and the keeper's Newton steps where it left the rings, again
-        // while the repair acts.
-        const bool affine_test = FoldRepair::affine_test_due(time, time + h);
+        if (!due) {
+            folds_tested_ = false;
+            return result;
+        }
         for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
-            if (!repair_folds(affine_test && cycle == 0, cycle == 0) || !rest_->keep_volume) break;
+            const bool repaired = repair_folds(affine_test && cycle == 0, cycle == 0);
+            if (cycle == 0 && repaired && std::isfinite(max_error))
+                result.land_at = FoldRepair::next_repair_time(time + h);
+            if (!repaired || !rest_->keep_volume) break;
             for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
                 if (k > 0) passes().estimate_normals(At::positions);  // the area vectors where the last step left them
                 passes().keep_volume();
@@ -352,7 +372,8 @@ private:
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
         passes().stage_step(motion, rest_->keep_volume);
-        folds_tested_ = fold_repair_.active() && !FoldRepair::affine_test_due(t.time, t.time + t.h);
+        folds_tested_ = fold_repair_.active() && FoldRepair::repair_due(t.time, t.time + t.h) &&
+                        !FoldRepair::affine_test_due(t.time, t.time + t.h);
         if (folds_tested_) passes().test_folds();
         t.stage = Stage::move_issued;
     }
@@ -375,6 +396,16 @@ private:
         for (std::size_t j = 0; j < sample_positions_.size(); ++j)
             samples.push_back(gauge_sample(sample_positions_[j], rest_->sample_s[j], sample_gradients_[j]));
         gauge_fit_ = GaugeFit(std::move(samples));
+    }
+
+    // The folds in the staged step's positions: the fold pass's count (the one
+    // issue_move staged, or a test now), and with `affine_test` the CPU's tests
+    // on the positions read back (FoldRepair::count_folds).
+    std::size_t staged_folds(bool affine_test) {
+        if (!fold_repair_.active()) return 0;
+        if (!affine_test) return folds_tested_ ? passes().read_fold_count() : passes().count_folds();
+        const std::vector<Vec3> staged = gather_in_order(passes().read_staged_positions(), rest_->order);
+        return fold_repair_.count_folds(staged, rest_->rings, true);
     }
 
     // FoldRepair::repair on the CPU after a step the fold pass found folds in, or

@@ -403,6 +403,7 @@ std::vector<Vec3> GpuPasses::read(const Target& target, const Vec3& origin) cons
 }
 
 std::vector<Vec3> GpuPasses::read_positions() const { return read(vertex_[committed_], origin_); }
+std::vector<Vec3> GpuPasses::read_staged_positions() const { return read(vertex_[current_], origin_); }
 std::vector<Vec3> GpuPasses::read_midpoints() const { return read(midpoint_, origin_); }
 std::vector<Vec3> GpuPasses::read_normals() const { return read(normal_, Vec3(0.0)); }
 std::vector<Vec3> GpuPasses::read_gradients() const { return read(gradient_[current_gradient_], Vec3(0.0)); }

@@ -93,6 +93,7 @@ public:
     void set_region(const std::vector<double>& s);
     // Read GPU state back (each call is one counted read-back).
     std::vector<Vec3> read_positions() const;
+    std::vector<Vec3> read_staged_positions() const;  // a staged step's, before commit_step()
     std::vector<Vec3> read_midpoints() const;
     std::vector<Vec3> read_normals() const;
     std::vector<Vec3> read_gradients() const;

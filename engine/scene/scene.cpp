@@ -330,7 +330,7 @@ const std::vector<SceneKey>& scene_keys() {
         {"stream_gauge", "\"fit\" (a gauge fitted to the blend region every step) or \"paper\"", "\"fit\""},
         {"smoothing", "\"space\" (the gradient smoothed as a vector) or \"tangent\" (as sec. 5)", "\"space\""},
         {"keep_volume", "true: the blend region's volume drift undone every step; false: as sec. 5", "true"},
-        {"fold_repair", "true: a folded triangle's blend vertices placed again after the step; false: as sec. 5",
+        {"fold_repair", "true: a folded triangle's blend vertices placed again, every 1/20 in time; false: as sec. 5",
          "true"},
         {"fold_refinement",
          "how many times vfsd deform refines the mesh where triangles folded anyway and runs again; 0: never", "6"},
