@@ -191,8 +191,8 @@ TEST_CASE("battery at full amplitude: no folds, outer in place, inner rigid, vol
 TEST_CASE("battery at full amplitude: error-controlled steps land near many fixed steps, where the repair acts too",
           "[battery][deform][steps]") {
     // The repair acts at the same times in both runs (deform/fold_repair.h), on
-    // shapes as close as their integration: of the old schedule's (after every
-    // step that folded), 3 of these 15 repaired scenes were within 1e-3.
+    // shapes as close as their integration. Repairing after every step that
+    // folded instead, 3 of these 15 repaired scenes were within 1e-3.
     std::size_t compared = 0, within = 0, repaired = 0, repaired_within = 0;
     double farthest = 0.0;
     for (int index = 0; index < kScenes; ++index) {
