@@ -80,9 +80,15 @@ nlohmann::json describe_refinement(const PreparedScene& p, const SceneRun& run) 
         "note: triangles folded, so the mesh was refined where they did and run again from t = 0 (%d "
         "times): the result has %zu vertices, the input's %zu (welded, in their order) and then the new ones\n",
         run.refinements, p.file.mesh.vertex_count(), run.vertices_before);
+    nlohmann::json runs = nlohmann::json::array();
+    for (const RunTried& t : run.tried)
+        runs.push_back({{"vertices", t.vertices},
+                        {"folded_at_end", t.folded_at_end},
+                        {"folded_over_tenths", t.folded_over_tenths}});
     return {{"rounds", run.refinements},
             {"vertices_before", run.vertices_before},
-            {"vertices_added", p.file.mesh.vertex_count() - run.vertices_before}};
+            {"vertices_added", p.file.mesh.vertex_count() - run.vertices_before},
+            {"runs", runs}};
 }
 
 // Each try of the step control as [t, h, estimate, taken].

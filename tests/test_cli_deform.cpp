@@ -217,6 +217,12 @@ TEST_CASE("vfsd deform refines the mesh where triangles fold and runs again, and
         CHECK(report["refinement"]["rounds"] == run.refinements);
         CHECK(report["refinement"]["vertices_before"] == b.mesh.mesh.vertex_count());
         CHECK(report["refinement"]["vertices_added"] == vertices - b.mesh.mesh.vertex_count());
+        const nlohmann::json& runs = report["refinement"]["runs"];
+        REQUIRE(runs.size() == run.tried.size());
+        CHECK(runs[0]["vertices"] == b.mesh.mesh.vertex_count());
+        CHECK(runs[run.refinements]["vertices"] == vertices);
+        CHECK(runs[run.refinements]["folded_at_end"] == report["flipped_triangles"]);
+        for (const nlohmann::json& r : runs) CHECK(r["folded_at_end"] >= report["flipped_triangles"]);
         CHECK(report["vertices"] == vertices);
         CHECK(report["flipped_triangles"] == count_flipped_triangles(prepared.file.mesh.positions,
                                                                      run.deformation->positions(),

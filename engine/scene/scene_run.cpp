@@ -41,6 +41,7 @@ SceneRun run_once(const PreparedScene& p, const StartDeformation& start, const R
         std::set_union(run.watch.folded.begin(), run.watch.folded.end(), folded.begin(), folded.end(),
                        std::back_inserter(all));
         run.watch.folded = std::move(all);
+        if (check == kChecks) run.watch.folded_at_end = folded.size();
     }
     return run;
 }
@@ -60,11 +61,22 @@ std::vector<std::uint32_t> triangles_around(const TriangleMesh& mesh, const std:
     return around;
 }
 
+// Which of two runs to keep: the one that folded fewer triangles at the end (the
+// shape the user gets), then fewer over its tenths (the way there).
+bool folded_less(const FoldWatch& a, const FoldWatch& b) {
+    return std::make_pair(a.folded_at_end, a.folded.size()) < std::make_pair(b.folded_at_end, b.folded.size());
+}
+
+RunTried tried(const PreparedScene& p, const SceneRun& run) {
+    return {p.file.mesh.vertex_count(), run.watch.folded_at_end, run.watch.folded.size()};
+}
+
 }  // namespace
 
 SceneRun run_scene(PreparedScene& prepared, const StartDeformation& start, const RunProgress& progress) {
     const std::size_t vertices_before = prepared.file.mesh.vertex_count();
     SceneRun best = run_once(prepared, start, progress, 0);
+    std::vector<RunTried> runs{tried(prepared, best)};
     std::optional<PreparedScene> last;  // the mesh the next refinement starts from
     std::vector<std::uint32_t> folded = best.watch.folded;
     for (int round = 1; round <= prepared.scene.options.fold_refinements && !folded.empty(); ++round) {
@@ -77,13 +89,15 @@ SceneRun run_scene(PreparedScene& prepared, const StartDeformation& start, const
         } catch (const NumericalError&) {
             break;  // keep the best run that finished
         }
+        runs.push_back(tried(*last, *run));
         folded = run->watch.folded;
-        if (folded.size() < best.watch.folded.size()) {  // the first of equals stays
+        if (folded_less(run->watch, best.watch)) {  // the first of equals stays
             best = std::move(*run);
             prepared = *last;
         }
     }
     best.vertices_before = vertices_before;
+    best.tried = std::move(runs);
     return best;
 }
 

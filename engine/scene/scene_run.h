@@ -32,6 +32,14 @@ struct FoldWatch {
     int first_step = -1;  // the steps taken when a fold was first counted (−1: never)
     double first_time = -1.0;
     std::vector<std::uint32_t> folded;  // every triangle counted folded at some tenth, ascending
+    std::size_t folded_at_end = 0;      // those folded at the target time
+};
+
+// One run that run_scene made: its mesh's vertices and its folds.
+struct RunTried {
+    std::size_t vertices = 0;
+    std::size_t folded_at_end = 0;
+    std::size_t folded_over_tenths = 0;  // at some tenth of the way
 };
 
 struct SceneRun {
@@ -39,6 +47,7 @@ struct SceneRun {
     FoldWatch watch;                         // the kept run's
     int refinements = 0;                     // refinements of the mesh this run had
     std::size_t vertices_before = 0;         // the mesh's vertices before it was refined
+    std::vector<RunTried> tried;             // every run made, the first (unrefined) first
 };
 
 // Starts a deformation of the prepared scene (the CPU's by default; the GPU's:
@@ -52,8 +61,9 @@ using RunProgress = std::function<void(const Deformation&, int refinements)>;
 // and the triangles around their corners (refine_at_rest) and runs again, then
 // refines that mesh where its run folded, and so on, at most
 // prepared.scene.options.fold_refinements times and while the mesh has at most
-// twice the input's vertices; returns the run that folded fewest triangles over
-// its tenths (the first of equals), and `prepared` keeps the mesh that run
+// twice the input's vertices; returns the run that folded fewest triangles at
+// the target time, of those the one that folded fewest over its tenths (the
+// first of equals), and `prepared` keeps the mesh that run
 // belongs to. Throws what the first run's deformation throws (NumericalError on
 // a non-finite position); a refined run that throws ends the refinement.
 SceneRun run_scene(PreparedScene& prepared, const StartDeformation& start = {}, const RunProgress& progress = {});
