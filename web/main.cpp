@@ -76,6 +76,10 @@ EM_JS(int, vfsd_page_frame, (const char* overlay), {
 EM_JS(void, vfsd_page_progress, (), {
     if (Module.vfsdProgress) Module.vfsdProgress();
 });
+// A frame's steps reached the target time: when, on the page's clock (performance.now()).
+EM_JS(void, vfsd_page_reached_target, (double now), {
+    if (Module.vfsdReachedTarget) Module.vfsdReachedTarget(now);
+});
 EM_JS(void, vfsd_page_context, (int lost), {
     if (Module.vfsdContext) Module.vfsdContext(lost != 0);
 });
@@ -344,7 +348,9 @@ void App::frame() {
         // some frames); otherwise a frame draws when something changed or the page
         // waits for a frame.
         const bool busy = editor_->busy();
+        const bool moving = editor_->session().moving();
         editor_->advance();
+        if (moving && !editor_->session().moving()) vfsd_page_reached_target(emscripten_get_now());
         draw = (draw || (busy ? editor_->draw_due() : waiting_)) && !fence_;
         if (draw) {
             view_.wireframe = editor_->settings().wireframe;

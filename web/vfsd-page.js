@@ -58,6 +58,7 @@
     return Float64Array.from(Module.HEAPF64.subarray(ptr / 8, ptr / 8 + n));
   }
 
+  let reachedTargetAt = null;  // when a frame's steps last reached the target time (performance.now())
   const Module = window.Module = {
     canvas: glCanvas,
     vfsdOptions: { float: params.get('float') !== '0', backend: params.get('backend') || 'auto',
@@ -65,7 +66,8 @@
     print: (text) => console.log(text),
     printErr: (text) => console.warn(text),
     vfsdFrame: onFrame,
-    vfsdProgress: () => refresh(command({ cmd: 'state' })),  // a frame that did not draw, while the run goes on
+    vfsdProgress: () => refresh(command({ cmd: 'state' })),
+    vfsdReachedTarget: (now) => { reachedTargetAt = now; },  // a frame that did not draw, while the run goes on
     vfsdAutosaved: () => autosaveStore.write(),
     vfsdContext: (lost) => {
       $('status').textContent = lost ? 'WebGL context lost: waiting for it to come back…'
@@ -523,6 +525,9 @@
       return api.stats();
     },
     stats: () => command({ cmd: 'state' }).stats,
+    // When the steps of a frame last reached the target time, on performance.now()'s
+    // clock (null before): the shape is computed then, and drawn after.
+    reachedTargetAt: () => reachedTargetAt,
     state: () => command({ cmd: 'state' }),
     positions: () => array(0),
     regionS: () => array(1),

@@ -38,11 +38,14 @@ try {
   const last = c.length - 1;
   const to = (await api((p) => window.vfsd.command({ cmd: 'project', points: [p] }),
                         [c[last][0], c[last][1] + 0.15 * s.diagonal, c[last][2]])).pixels[0];
-  await api((a) => window.vfsd.command({ cmd: 'drag', index: a.last, to: a.to }), { last, to });
+  const reachedBefore = await api(() => window.vfsd.reachedTargetAt());
+  const dragged = await api((a) => { window.vfsd.command({ cmd: 'drag', index: a.last, to: a.to }); return performance.now(); }, { last, to });
   await page.waitForFunction(() => {
     const st = window.vfsd.state();
     return st.stats.time === 1 && !st.moving;
   }, null, { polling: 10, timeout: 300000 });
+  const seen = await api(() => performance.now());
+  const reached = await api(() => window.vfsd.reachedTargetAt());
   const progress = await api(() => { window.progress.running = false; return window.progress; });
   const after = await api(() => window.vfsd.positionsChecksum());
   const end = await api(() => window.vfsd.state());
@@ -58,6 +61,10 @@ try {
   check(end.holding === false, 'and nothing is held any more');
   check(progress.texts.length > 0 && !progress.texts[progress.texts.length - 1].startsWith('updating'),
         `the time reads ${progress.texts[progress.texts.length - 1]} at the end`);
+  // The page stamps the frame whose steps reached t = 1 (the latency bench's figure).
+  check(reachedBefore !== null && reachedBefore < dragged && reached > dragged && reached <= seen,
+        `t = 1 reached at ${reachedBefore} before the drag, then at ${reached}: after the drag (${dragged}), ` +
+        `before the test saw it (${seen})`);
   check(errors.length === 0, 'no console errors' + (errors.length ? ': ' + errors.join(' | ') : ''));
 } finally {
   await close();
