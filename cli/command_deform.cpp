@@ -72,14 +72,21 @@ nlohmann::json describe_folds(const PreparedScene& p, const std::vector<Vec3>& a
             {"triangles", std::vector<std::uint32_t>(folded.begin(), folded.begin() + std::min(folded.size(), kListed))}};
 }
 
-// The report's "refinement" and a note on stderr when the mesh was refined.
+// The report's "refinement" and a note on stderr when the mesh was refined, or
+// refined runs were made and none folded fewer than the input's.
 nlohmann::json describe_refinement(const PreparedScene& p, const SceneRun& run) {
-    if (run.refinements == 0) return nlohmann::json::object();
-    std::fprintf(
-        stderr,
-        "note: triangles folded, so the mesh was refined where they did and run again from t = 0 (%d "
-        "times): the result has %zu vertices, the input's %zu (welded, in their order) and then the new ones\n",
-        run.refinements, p.file.mesh.vertex_count(), run.vertices_before);
+    if (run.tried.size() <= 1) return nlohmann::json::object();
+    if (run.refinements > 0)
+        std::fprintf(
+            stderr,
+            "note: triangles folded, so the mesh was refined where they did and run again from t = 0 (%d "
+            "times): the result has %zu vertices, the input's %zu (welded, in their order) and then the new ones\n",
+            run.refinements, p.file.mesh.vertex_count(), run.vertices_before);
+    else
+        std::fprintf(stderr,
+                     "note: triangles folded, so the mesh was refined where they did and run again from t = 0 (%zu "
+                     "times), but no refined run folded fewer: the result is the input mesh's run\n",
+                     run.tried.size() - 1);
     nlohmann::json runs = nlohmann::json::array();
     for (const RunTried& t : run.tried)
         runs.push_back({{"vertices", t.vertices},

@@ -160,13 +160,25 @@ TEST_CASE("vfsd deform says when triangles fold, how many, from when and where",
     CHECK(report["fold_repair_steps"] == 0);
 
     // Refined where it folds, sec. 5 as printed folds more (its ∇r ripples grow
-    // faster on a finer mesh): the first run is kept, mesh and folds alike.
+    // faster on a finer mesh): the first run is kept, mesh and folds alike, and
+    // the report and stderr say which runs were made.
     scene["fold_refinement"] = 3;
     write_bytes(dir.file("refined.json"), scene.dump());
     REQUIRE(deform(dir, "'" + dir.file("refined.json") + "' --out '" + dir.file("refined.ply") + "' --report '" +
                             dir.file("refined-report.json") + "'") == 0);
     const nlohmann::json kept = nlohmann::json::parse(std::ifstream(dir.file("refined-report.json")));
-    CHECK_FALSE(kept.contains("refinement"));
+    REQUIRE(kept.contains("refinement"));
+    CHECK(kept["refinement"]["rounds"] == 0);
+    CHECK(kept["refinement"]["vertices_added"] == 0);
+    const nlohmann::json& tried = kept["refinement"]["runs"];
+    REQUIRE(tried.size() >= 2);
+    CHECK(tried[0]["vertices"] == box.mesh.vertex_count());
+    CHECK(tried[0]["folded_at_end"] == kept["flipped_triangles"]);
+    for (std::size_t k = 1; k < tried.size(); ++k) {
+        CHECK(tried[k]["vertices"] > tried[k - 1]["vertices"]);
+        CHECK(tried[k]["folded_at_end"] >= kept["flipped_triangles"]);
+    }
+    CHECK(test::read_bytes(dir.file("stderr.txt")).find("but no refined run folded fewer") != std::string::npos);
     CHECK(kept["vertices"] == box.mesh.vertex_count());
     CHECK(kept["flipped_triangles"] == report["flipped_triangles"]);
     scene["fold_refinement"] = 0;
