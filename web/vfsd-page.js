@@ -66,8 +66,8 @@
     print: (text) => console.log(text),
     printErr: (text) => console.warn(text),
     vfsdFrame: onFrame,
-    vfsdProgress: () => refresh(command({ cmd: 'state' })),
-    vfsdReachedTarget: (now) => { reachedTargetAt = now; },  // a frame that did not draw, while the run goes on
+    vfsdProgress: () => refresh(command({ cmd: 'state' })),  // a frame that did not draw, while the run goes on
+    vfsdReachedTarget: (now) => { reachedTargetAt = now; },  // a frame's steps reached the target time
     vfsdAutosaved: () => autosaveStore.write(),
     vfsdContext: (lost) => {
       $('status').textContent = lost ? 'WebGL context lost: waiting for it to come back…'
