@@ -14,9 +14,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <tuple>
 
@@ -25,6 +27,7 @@
 #include "base/error.h"
 #include "base/parallel.h"
 #include "cli/commands.h"
+#include "cli/runs_json.h"
 #include "deform/quality.h"
 #include "gpu/context.h"
 #include "io/png.h"
@@ -52,6 +55,7 @@ struct Outcome {
     std::vector<double> s;           // on rest
     int refinements = 0;             // runs started again on a refined mesh (scene/scene_run.h)
     std::size_t vertices_added = 0;  // by those refinements
+    std::vector<RunTried> runs;      // every run made, the input mesh's first
     int steps = 0, rejected = 0;     // the kept run's steps, and those rejected by the step control
     // With --reference-steps: the largest and the 99.9th-percentile distance to that
     // many fixed steps' result, over the mesh's size (−1: the two runs refined
@@ -117,6 +121,7 @@ Outcome run_battery_scene(BatteryScene b) {
         o.first_fold_time = run.watch.first_time;
         o.refinements = run.refinements;
         o.vertices_added = prepared.file.mesh.vertex_count() - run.vertices_before;
+        o.runs = run.tried;
         o.result = d.positions();
         o.ms_per_step = median(d.step_milliseconds());
         o.repairs = d.fold_repairs();
@@ -168,6 +173,7 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"baseline_distance_over_size_p999", o.baseline_distance_p999},
             {"reference_flipped_triangles", o.reference_folds},
             {"vertices_added", o.vertices_added},
+            {"runs", runs_json(o.runs)},
             {"warnings", o.warnings},
             {"error", o.error},
             {"passed", !o.failed()}};
@@ -250,9 +256,9 @@ std::vector<std::string> mesh_files_in(const std::string& dir) {
     return usable;
 }
 
-int positive_int(const Args& args, const char* option, int fallback) {
+int non_negative_int(const Args& args, const char* option, int fallback) {
     const double value = args.get_number(option, fallback);
-    if (value < 0 || value != static_cast<int>(value))
+    if (!(value >= 0.0 && value <= double(std::numeric_limits<int>::max())) || value != std::floor(value))
         throw UsageError(std::string("--") + option + " expects a non-negative integer");
     return static_cast<int>(value);
 }
@@ -266,17 +272,18 @@ int run_battery(const Args& args) {
     const double tolerance = args.get_number("tolerance", 0.0);
     if (!(tolerance >= 0.0 && tolerance <= 0.1)) throw UsageError("--tolerance expects 0 to 0.1");
     if (tolerance > 0.0 && args.has("steps")) throw UsageError("--steps and --tolerance exclude each other");
-    const int reference_steps = positive_int(args, "reference-steps", 0);
-    const int baseline_steps = positive_int(args, "baseline-steps", 0);
+    const int reference_steps = non_negative_int(args, "reference-steps", 0);
+    const int baseline_steps = non_negative_int(args, "baseline-steps", 0);
     if (!args.has("out") || args.get("out").empty()) throw UsageError("--out DIR is required");
-    const int seed = positive_int(args, "seed", 1), count = positive_int(args, "count", 30);
-    const int worst = positive_int(args, "worst", 5), steps = positive_int(args, "steps", 0);
+    const int seed = non_negative_int(args, "seed", 1), count = non_negative_int(args, "count", 30);
+    if (count == 0) throw UsageError("--count expects a positive integer");
+    const int worst = non_negative_int(args, "worst", 5), steps = non_negative_int(args, "steps", 0);
     const double amplitude = args.get_number("amplitude", 1.0);
     const std::string scheme = args.get("scheme", "default");
     if (scheme != "default" && scheme != "paper" && scheme != "no-repair" && scheme != "no-refinement")
         throw UsageError("--scheme must be 'default', 'paper', 'no-repair' or 'no-refinement'");
     if (!(amplitude > 0.0 && amplitude <= 1.0)) throw UsageError("--amplitude expects a number in (0, 1]");
-    if (args.has("threads")) set_parallel_thread_limit(std::max(1, positive_int(args, "threads", 0)));
+    if (args.has("threads")) set_parallel_thread_limit(std::max(1, non_negative_int(args, "threads", 0)));
     std::vector<std::string> sources =
         args.has("mesh") ? std::vector<std::string>{args.get("mesh")}
                          : battery_mesh_sources(mesh_files_in(args.get("mesh-dir")), !args.has("coarse"));
@@ -284,7 +291,7 @@ int run_battery(const Args& args) {
     std::filesystem::create_directories(dir);
 
     std::vector<Outcome> outcomes;
-    const int first = args.has("only") ? positive_int(args, "only", 0) : 0;
+    const int first = args.has("only") ? non_negative_int(args, "only", 0) : 0;
     const int last = args.has("only") ? first + 1 : count;
     for (int index = first; index < last; ++index) {
         BatteryScene b = generate_battery_scene(static_cast<std::uint64_t>(seed), index, sources, amplitude);

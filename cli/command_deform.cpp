@@ -21,6 +21,7 @@
 
 #include "base/error.h"
 #include "cli/commands.h"
+#include "cli/runs_json.h"
 #include "deform/quality.h"
 #include "gpu/context.h"
 #include "gpu/gpu_deformation.h"
@@ -87,15 +88,10 @@ nlohmann::json describe_refinement(const PreparedScene& p, const SceneRun& run) 
                      "note: triangles folded, so the mesh was refined where they did and run again from t = 0 (%zu "
                      "times), but no refined run folded fewer: the result is the input mesh's run\n",
                      run.tried.size() - 1);
-    nlohmann::json runs = nlohmann::json::array();
-    for (const RunTried& t : run.tried)
-        runs.push_back({{"vertices", t.vertices},
-                        {"folded_at_end", t.folded_at_end},
-                        {"folded_over_tenths", t.folded_over_tenths}});
     return {{"rounds", run.refinements},
             {"vertices_before", run.vertices_before},
             {"vertices_added", p.file.mesh.vertex_count() - run.vertices_before},
-            {"runs", runs}};
+            {"runs", runs_json(run.tried)}};
 }
 
 // Each try of the step control as [t, h, estimate, taken].

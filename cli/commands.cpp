@@ -127,7 +127,8 @@ const std::vector<Command>& commands() {
          "measure, exact for affine maps), volume error and change, outer\n"
          "displacement, inner rigid residual, ms/step, the vertices the fold repair placed\n"
          "again and how far, the runs on a mesh refined where it folded and the vertices\n"
-         "they added. Writes DIR/battery.json,\n"
+         "they added (battery.json's \"runs\": each run made, its vertices and folds, as\n"
+         "'vfsd deform' reports them). Writes DIR/battery.json,\n"
          "DIR/battery.csv and, for the K worst (default 5), DIR/worst-R-NAME.{json,ply,png}:\n"
          "'vfsd deform' on the .json reproduces the scene. --only INDEX runs scene INDEX alone.\n"
          "Exits 1 when a scene folds, moves its outer region or bends its inner region.\n",
