@@ -70,32 +70,39 @@ struct Outcome {
     }
 };
 
+// A run's result and the mesh it ran on (the input's, or one refined where it folded).
+struct RunResult {
+    std::vector<Vec3> positions;
+    TriangleMesh rest;
+};
+
 // The scene's result in `steps` fixed steps (nothing when it fails).
-std::optional<std::vector<Vec3>> run_fixed_steps(const Outcome& o, int steps, std::size_t* folds) {
+std::optional<RunResult> run_fixed_steps(const Outcome& o, int steps, std::size_t* folds) {
     Scene scene = o.battery.scene;
     scene.options.tolerance = 0.0;
     scene.options.steps = steps;
     PreparedScene prepared = prepare_scene(scene, o.battery.mesh);
     try {
         const SceneRun run = run_scene(prepared);
-        std::vector<Vec3> result = run.deformation->positions();
-        if (folds)
-            *folds = flipped_triangle_list(prepared.file.mesh.positions, result, prepared.file.mesh.triangles).size();
-        return result;
+        RunResult out{run.deformation->positions(), prepared.file.mesh};
+        if (folds) *folds = flipped_triangle_list(out.rest.positions, out.positions, out.rest.triangles).size();
+        return out;
     } catch (const NumericalError&) {
         return std::nullopt;
     }
 }
 
 // The largest and the 99.9th-percentile distance between two results over the
-// rest mesh's size; −1 when they differ in their vertices (refined differently).
-std::pair<double, double> result_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b,
-                                          const TriangleMesh& rest) {
-    if (a.size() != b.size() || a.empty()) return {-1.0, -1.0};
-    std::vector<double> distance(a.size());
-    for (std::size_t v = 0; v < a.size(); ++v) distance[v] = glm::length(a[v] - b[v]);
+// rest mesh's size; −1 when they ran on different meshes (refined differently:
+// the same number of vertices is no proof of the same mesh).
+std::pair<double, double> result_distance(const RunResult& a, const RunResult& b) {
+    if (a.positions.empty() || a.positions.size() != b.positions.size() || a.rest.positions != b.rest.positions ||
+        a.rest.triangles != b.rest.triangles)
+        return {-1.0, -1.0};
+    std::vector<double> distance(a.positions.size());
+    for (std::size_t v = 0; v < a.positions.size(); ++v) distance[v] = glm::length(a.positions[v] - b.positions[v]);
     std::sort(distance.begin(), distance.end());
-    const double size = centred_diameter(rest.positions);
+    const double size = centred_diameter(a.rest.positions);
     return {distance.back() / size, distance[distance.size() * 999 / 1000] / size};
 }
 
@@ -104,10 +111,10 @@ std::pair<double, double> result_distance(const std::vector<Vec3>& a, const std:
 void compare_with_fixed_steps(Outcome& o, int reference_steps, int baseline_steps) {
     const auto reference = run_fixed_steps(o, reference_steps, &o.reference_folds);
     if (!reference) return;
-    std::tie(o.reference_distance, o.reference_distance_p999) = result_distance(o.result, *reference, o.rest);
+    std::tie(o.reference_distance, o.reference_distance_p999) = result_distance({o.result, o.rest}, *reference);
     if (baseline_steps <= 0) return;
     if (const auto baseline = run_fixed_steps(o, baseline_steps, nullptr))
-        std::tie(o.baseline_distance, o.baseline_distance_p999) = result_distance(*baseline, *reference, o.rest);
+        std::tie(o.baseline_distance, o.baseline_distance_p999) = result_distance(*baseline, *reference);
 }
 
 Outcome run_battery_scene(BatteryScene b) {
