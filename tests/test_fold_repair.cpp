@@ -75,13 +75,14 @@ TEST_CASE("the fold repair untangles a vertex pushed through its neighbour and p
     const std::vector<double> s(sphere.positions.size(), 0.5);
     std::mt19937 random(11);
     std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(sphere.positions.size() - 1));
-    for (int trial = 0; trial < 20; ++trial) {
+    for (int trial = 0; trial < 40; ++trial) {
         FoldRepair repair(sphere.positions, s, rings);
         const RandomAffine map = random_affine(random);
         std::vector<Vec3> x = mapped(sphere.positions, map);
-        // Slide v past a neighbour, beyond it: its fan turns over.
+        // Slide v past a neighbour, beyond it by 0.7 or 2 of their edge (further
+        // than the vertex search's edge moves reach): its fan turns over.
         const std::uint32_t v = pick(random), a = neighbour_of(rings, v);
-        x[v] = x[a] + 0.7 * (x[a] - x[v]);
+        x[v] = x[a] + (trial % 2 ? 2.0 : 0.7) * (x[a] - x[v]);
         const double pushed = glm::length(x[v] - map(sphere.positions[v]));
         REQUIRE(!flipped_triangle_list(mapped(sphere.positions, map), x, sphere.triangles).empty());
         CHECK(repair.repair(x, rings, true) == 0);

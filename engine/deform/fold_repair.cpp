@@ -28,8 +28,16 @@ constexpr double kStarWeight = 1e-3;      // of the star fit's normal term, per 
 constexpr int kSearchPasses = 4;          // passes of the vertex search over the folded triangles' corners, at most
 constexpr double kSearchMargin = 0.05;    // a nearly folded entry: n·Σm below this share of its value at rest
 constexpr double kSearchGain = 0.1;       // the least share of its margins' shortfall a search move takes off
-constexpr int kSearchScales = 4;          // its moves: 1/64, 1/16, 1/4 and 1 of the vertex's shortest edge
+constexpr int kSearchScales = 4;          // its moves: 1/64, 1/16, 1/4 and 1 of the vertex's shortest edge,
+constexpr int kCentroidParts = 4;         // and 1/4, 1/2, 3/4 and all of the way to its ring's centroid
 constexpr std::uint32_t kNone = ~std::uint32_t(0);
+
+// The mean of v's ring in x.
+Vec3 ring_centroid(const std::vector<Vec3>& x, const VertexRings& rings, std::uint32_t v) {
+    Vec3 sum(0.0);
+    for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) sum += x[rings.neighbours[k]];
+    return rings.end(v) > rings.begin(v) ? sum / double(rings.end(v) - rings.begin(v)) : x[v];
+}
 
 // The mean length of v's ring edges in x.
 double mean_edge(const std::vector<Vec3>& x, const VertexRings& rings, std::uint32_t v) {
@@ -534,13 +542,16 @@ struct SearchScore {
 // reversed by the affine test after a step it runs after), one at a time in the
 // input's vertex order, try moves along their star's normal and toward and away
 // from each neighbour in the star's plane (a set that turns and mirrors with the
-// mesh) of 1/64, 1/16, 1/4 and 1 of their shortest edge. A vertex moves only
-// to leave fewer entries about it folded by either test (the affine one's sums
-// taken here between the steps it runs after), or as many but a tenth less short
-// of the margins, and never more by the neighbour test; of such moves it takes
-// the one that leaves the fewest, then the least short of the margins, then the
-// smallest, then the widest least margin. A needle's corner has to move by the
-// needle's tiny height, which no ring's or patch's fit resolves.
+// mesh) of 1/64, 1/16, 1/4 and 1 of their shortest edge, and toward their
+// ring's centroid by 1/4 to all of the way (a corner pushed through its fan
+// further than that: docs/method.md, "Moves toward the ring's centroid"). A
+// vertex moves only to leave fewer entries about it folded by either test (the
+// affine one's sums taken here between the steps it runs after), or as many but
+// a tenth less short of the margins, and never more by the neighbour test; of
+// such moves it takes the one that leaves the fewest, then the least short of
+// the margins, then the smallest, then the widest least margin. A needle's
+// corner has to move by the needle's tiny height, which no ring's or patch's
+// fit resolves.
 std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::uint32_t>& near_folded,
                                                        std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
                                                        std::vector<std::pair<std::uint32_t, Vec3>>& undo) {
@@ -641,15 +652,25 @@ std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::ui
         const SearchScore here = score(0);
         SearchScore best = here;
         ties.assign(1, from);
+        const auto consider = [&](const SearchScore& candidate) {  // the move to x[v]
+            if (!candidate.gains_on(here)) return;
+            const int order = candidate.against(best);
+            if (order < 0) best = candidate, ties.assign(1, x[v]);
+            if (order == 0) ties.push_back(x[v]);
+        };
         for (int scale = 1; scale <= kSearchScales; ++scale)
             for (const Vec3& d : directions) {
                 x[v] = from + std::ldexp(shortest, 2 * (scale - kSearchScales)) * d;
-                const SearchScore candidate = score(scale);
-                if (!candidate.gains_on(here)) continue;
-                const int order = candidate.against(best);
-                if (order < 0) best = candidate, ties.assign(1, x[v]);
-                if (order == 0) ties.push_back(x[v]);
+                consider(score(scale));
             }
+        // And toward the ring's centroid, a quarter to all of the way (ranked as
+        // one scale above the others): a corner pushed through its fan by more
+        // than its shortest edge.
+        const Vec3 centroid = ring_centroid(x, rings, v);
+        for (int part = 1; part <= kCentroidParts; ++part) {
+            x[v] = from + (double(part) / kCentroidParts) * (centroid - from);
+            consider(score(kSearchScales + 1));
+        }
         // Moves as good as each other to rounding (mirror images in a symmetric
         // star): their mean if it does as well, else none, so that rounding
         // does not choose.

@@ -26,7 +26,8 @@
 // 3. what the rounds leave folded: a vertex search. The blend corners of the
 //    folded and nearly folded triangles, one at a time, try small moves (along
 //    the star's normal and toward and away from each neighbour, 1/64 to 1 of
-//    the shortest edge) and take the one that leaves the fewest triangles about
+//    the shortest edge, and toward the ring's centroid, 1/4 to all of the
+//    way) and take the one that leaves the fewest triangles about
 //    them folded by either test, if fewer than before (or as many, and they
 //    are a tenth less short of a margin), up to four passes. A needle or a
 //    sliver on a crease of the rest surface folds when its corner crosses its
