@@ -542,9 +542,10 @@ struct SearchScore {
 // reversed by the affine test after a step it runs after), one at a time in the
 // input's vertex order, try moves along their star's normal and toward and away
 // from each neighbour in the star's plane (a set that turns and mirrors with the
-// mesh) of 1/64, 1/16, 1/4 and 1 of their shortest edge, and toward their
-// ring's centroid by 1/4 to all of the way (a corner pushed through its fan
-// further than that: docs/method.md, "Moves toward the ring's centroid"). A
+// mesh) of 1/64, 1/16, 1/4 and 1 of their shortest edge, and where none of
+// those gains, toward their ring's centroid by 1/4 to all of the way (a corner
+// pushed through its fan further than that: docs/method.md, "Moves toward the
+// ring's centroid"). A
 // vertex moves only to leave fewer entries about it folded by either test (the
 // affine one's sums taken here between the steps it runs after), or as many but
 // a tenth less short of the margins, and never more by the neighbour test; of
@@ -663,13 +664,15 @@ std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::ui
                 x[v] = from + std::ldexp(shortest, 2 * (scale - kSearchScales)) * d;
                 consider(score(scale));
             }
-        // And toward the ring's centroid, a quarter to all of the way (ranked as
-        // one scale above the others): a corner pushed through its fan by more
-        // than its shortest edge.
-        const Vec3 centroid = ring_centroid(x, rings, v);
-        for (int part = 1; part <= kCentroidParts; ++part) {
-            x[v] = from + (double(part) / kCentroidParts) * (centroid - from);
-            consider(score(kSearchScales + 1));
+        // Where none of those gains: toward the ring's centroid, a quarter to all
+        // of the way (a corner pushed through its fan by more than its shortest
+        // edge).
+        if (ties.front() == from) {
+            const Vec3 centroid = ring_centroid(x, rings, v);
+            for (int part = 1; part <= kCentroidParts; ++part) {
+                x[v] = from + (double(part) / kCentroidParts) * (centroid - from);
+                consider(score(kSearchScales + 1));
+            }
         }
         // Moves as good as each other to rounding (mirror images in a symmetric
         // star): their mean if it does as well, else none, so that rounding

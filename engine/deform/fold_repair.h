@@ -26,14 +26,15 @@
 // 3. what the rounds leave folded: a vertex search. The blend corners of the
 //    folded and nearly folded triangles, one at a time, try small moves (along
 //    the star's normal and toward and away from each neighbour, 1/64 to 1 of
-//    the shortest edge, and toward the ring's centroid, 1/4 to all of the
-//    way) and take the one that leaves the fewest triangles about
-//    them folded by either test, if fewer than before (or as many, and they
-//    are a tenth less short of a margin), up to four passes. A needle or a
-//    sliver on a crease of the rest surface folds when its corner crosses its
-//    base by its tiny height; no fit of a ring or a patch places a vertex that
-//    closely. The search takes the vertices in the input's order and settles
-//    ties by their mean, so a turned or mirrored scene is repaired alike.
+//    the shortest edge, and where none of those gains, toward the ring's
+//    centroid, 1/4 to all of the way) and take the one that leaves the fewest
+//    triangles about them folded by either test, if fewer than before (or as
+//    many, and they are a tenth less short of a margin), up to four passes. A
+//    needle or a sliver on a crease of the rest surface folds when its corner
+//    crosses its base by its tiny height; no fit of a ring or a patch places a
+//    vertex that closely. The search takes the vertices in the input's order
+//    and settles ties by their mean, so a turned or mirrored scene is repaired
+//    alike.
 //
 // The volume keeper's Newton steps follow a repair, and can push a needle's
 // corner across its base again: the step then repairs again, up to
