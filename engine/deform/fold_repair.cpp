@@ -545,14 +545,13 @@ struct SearchScore {
 // mesh) of 1/64, 1/16, 1/4 and 1 of their shortest edge, and where none of
 // those gains, toward their ring's centroid by 1/4 to all of the way (a corner
 // pushed through its fan further than that: docs/method.md, "Moves toward the
-// ring's centroid"). A
-// vertex moves only to leave fewer entries about it folded by either test (the
-// affine one's sums taken here between the steps it runs after), or as many but
-// a tenth less short of the margins, and never more by the neighbour test; of
-// such moves it takes the one that leaves the fewest, then the least short of
-// the margins, then the smallest, then the widest least margin. A needle's
-// corner has to move by the needle's tiny height, which no ring's or patch's
-// fit resolves.
+// ring's centroid"). A vertex moves only to leave fewer entries about it folded
+// by either test (the affine one's sums taken here between the steps it runs
+// after), or as many but a tenth less short of the margins, and never more by
+// the neighbour test; of such moves it takes the one that leaves the fewest,
+// then the least short of the margins, then the smallest, then the widest least
+// margin. A needle's corner has to move by the needle's tiny height, which no
+// ring's or patch's fit resolves.
 std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::uint32_t>& near_folded,
                                                        std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
                                                        std::vector<std::pair<std::uint32_t, Vec3>>& undo) {
