@@ -169,6 +169,7 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"inner_rigid_residual", o.quality.inner_rigid_residual},
             {"ms_per_step", o.ms_per_step},
             {"fold_repair_steps", o.repairs.steps_repaired},
+            {"fold_untangle_steps", o.repairs.steps_untangled},
             {"fold_repair_vertex_moves", o.repairs.vertex_moves},
             {"fold_repair_max_shift_over_diagonal", o.repair_shift_over_diagonal},
             {"refinements", o.refinements},

@@ -134,6 +134,7 @@ nlohmann::json report_json(const PreparedScene& p, const Deformation& d, const D
             {"nonfinite_vertices", q.nonfinite_vertices},
             // deform/fold_repair.h: steps after which it placed vertices again, and its largest move
             {"fold_repair_steps", repairs.steps_repaired},
+            {"fold_untangle_steps", repairs.steps_untangled},
             {"fold_repair_max_shift_over_diagonal", repairs.max_shift / bounding_box(p.file.mesh.positions).diagonal()},
             {"warnings", p.warnings}};
 }

@@ -357,7 +357,8 @@ TEST_CASE("EditorSession: an edit shows its result when it is computed, play and
     CHECK(session.positions() == session.deformation()->positions());
     CHECK(session.positions() != before);
     CHECK(session.positions_revision() != shown);
-    CHECK(session.stats().volume_error_percent != shown_stats.volume_error_percent);
+    // (Its volume error is not compared with the held one's: the volume keeper
+    // leaves both at rounding, 9e-14 %, the same figure.)
     CHECK(time_stat_text(session) == "1.000");
 
     // Scrubbing after an edit shows the way: positions follow the run's time.

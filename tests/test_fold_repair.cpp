@@ -89,8 +89,72 @@ TEST_CASE("the fold repair untangles a vertex pushed through its neighbour and p
         CHECK(flipped_triangle_list(mapped(sphere.positions, map), x, sphere.triangles).empty());
         CHECK(repair.stats().steps_repaired == 1);
         CHECK(repair.stats().max_shift > 0.0);
-        // The ring fits reproduce an affine map: v ends far nearer its image than it was pushed.
-        CHECK(glm::length(x[v] - map(sphere.positions[v])) < 0.25 * pushed);
+        // The lift pulls v back across its fan (one mean edge at most) and settles it
+        // toward its ring's affine image, which the ring fits reproduce: v ends
+        // far nearer its image than it was pushed.
+        CHECK(glm::length(x[v] - map(sphere.positions[v])) < 0.5 * pushed);
+    }
+}
+
+TEST_CASE("the lift's moves grow continuously from zero as a triangle passes its target", "[deform][repair]") {
+    // A blend vertex slid toward a neighbour, by a share p of their edge: its
+    // fan's triangles narrow and, past some p*, fall short of the lift's target
+    // by more than its slack (1e-3 of its area term). Just past p*, the repair
+    // moves the mesh by about that slack's worth (3e-5 to 5e-5 of an edge here),
+    // more the further past; just before, not at all. (The rounds alone moved a
+    // patch by a share of an edge as soon as a triangle folded, whatever the
+    // fold's depth.)
+    const TriangleMesh sphere = make_builtin_mesh("sphere", 3);
+    const VertexRings rings = build_vertex_rings(sphere);
+    const std::vector<double> s(sphere.positions.size(), 0.5);
+    std::mt19937 random(17);
+    for (int trial = 0; trial < 6; ++trial) {
+        const RandomAffine map = random_affine(random);
+        const std::vector<Vec3> start = mapped(sphere.positions, map);
+        const std::uint32_t v = std::uniform_int_distribution<std::uint32_t>(
+                                0, static_cast<std::uint32_t>(sphere.positions.size() - 1))(random),
+                            a = neighbour_of(rings, v);
+        const double edge = glm::length(start[a] - start[v]);
+        const auto pushed = [&](double p) {
+            std::vector<Vec3> x = start;
+            x[v] = start[v] + p * (start[a] - start[v]);
+            return x;
+        };
+        FoldRepair probe(sphere.positions, s, rings);
+        double below = 0.0, above = 1.7;  // short at 1.7: the vertex is past its neighbour
+        REQUIRE(probe.count_folds(pushed(above), rings, false) > 0);
+        REQUIRE(probe.count_folds(pushed(below), rings, false) == 0);
+        for (int k = 0; k < 60; ++k) {
+            const double middle = 0.5 * (below + above);
+            (probe.count_folds(pushed(middle), rings, false) > 0 ? above : below) = middle;
+        }
+        const auto largest_move = [&](double p, FoldRepairStats& stats) {
+            FoldRepair repair(sphere.positions, s, rings);
+            std::vector<Vec3> x = pushed(p);
+            const std::vector<Vec3> before = x;
+            repair.repair(x, rings, false);
+            stats = repair.stats();
+            double largest = 0.0;
+            for (std::size_t u = 0; u < x.size(); ++u) largest = std::max(largest, glm::length(x[u] - before[u]));
+            return largest / edge;
+        };
+        INFO("trial " << trial << ": short from p = " << above);
+        FoldRepairStats stats;
+        CHECK(largest_move(below, stats) == 0.0);
+        CHECK(stats.steps_repaired == 0);
+        std::vector<double> moves;
+        for (const double past : {1e-9, 1e-6, 1e-3, 1e-1}) {
+            moves.push_back(largest_move(above + past, stats));
+            CHECK(stats.steps_repaired == 1);
+            CHECK(stats.steps_untangled == 0);  // the lift alone: nothing folded is left for the rounds
+        }
+        INFO("moves, in edges: " << moves[0] << ", " << moves[1] << ", " << moves[2] << ", " << moves[3]);
+        CHECK(moves[0] < 1e-4);
+        CHECK(moves[1] < 1e-4);
+        CHECK(moves[2] < 1e-2);
+        CHECK(moves[0] <= moves[1]);
+        CHECK(moves[1] <= moves[2]);
+        CHECK(moves[2] <= moves[3]);
     }
 }
 
@@ -292,7 +356,13 @@ TEST_CASE("a scene the fold repair acts on, turned, moved far away or mirrored, 
         for (std::size_t v = 0; v < result.size(); ++v)
             worst = std::max(worst, glm::length(placement.point(result[v]) - placed_result[v]));
         INFO("mirrored: " << mirror);
-        CHECK(worst / bounding_box(placed.mesh.positions).diagonal() < 1e-6);
+        // Placed, the ring passes' float sums differ in their last bits (1e-7 of an
+        // edge at the first repair); the lift's moves are continuous in the
+        // positions, not exactly reproducible, and on this box, short of its lift's
+        // target at most repair times, those differences grow to 1e-5 of the size
+        // by t = 1 (1e-6 when only the rounds acted, which act alike on positions
+        // a little apart). Runs of different step counts differ by 1e-3.
+        CHECK(worst / bounding_box(placed.mesh.positions).diagonal() < 1e-4);
     }
 }
 

@@ -31,6 +31,30 @@ constexpr double kSearchGain = 0.1;       // the least share of its margins' sho
 constexpr int kSearchScales = 4;          // its moves: 1/64, 1/16, 1/4 and 1 of the vertex's shortest edge,
 constexpr int kCentroidParts = 4;         // and 1/4, 1/2, 3/4 and all of the way to its ring's centroid
 constexpr std::uint32_t kNone = ~std::uint32_t(0);
+constexpr double kLiftMargin = 0.1;      // the lift's target: N·Ŝ ≥ |N| times this share of its cosine at rest
+constexpr double kLiftArea = 0.05;       // plus its area at rest times this share of that cosine
+constexpr double kLiftSlack = 1e-3;      // the share of the area term an entry may stay short
+constexpr int kLiftSweeps = 40;          // Jacobi sweeps of the lift, at most
+constexpr double kLiftRelaxation = 0.5;  // of each sweep's summed moves
+constexpr double kLiftStep = 0.25;       // the most a vertex moves in a sweep, in its ring's mean edges
+constexpr double kLiftSettle = 0.25;     // a lifted vertex settles fully once it moved this many mean edges
+
+// The gradients of N·w, N the area vector of triangle (a, b, c) and w fixed,
+// with respect to a, b and c, added to ga, gb and gc.
+void add_area_gradient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& w, Vec3& ga, Vec3& gb, Vec3& gc) {
+    ga += glm::cross(b - c, w), gb += glm::cross(c - a, w), gc += glm::cross(a - b, w);
+}
+
+// The gradients of n·w, n the unit normal of triangle (a, b, c) and w fixed,
+// with respect to a, b and c, added to ga, gb and gc.
+void add_facing_gradient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& w, Vec3& ga, Vec3& gb, Vec3& gc) {
+    const Vec3 cross = glm::cross(b - a, c - a);
+    const double length = glm::length(cross);
+    if (!(length > 0.0)) return;
+    const Vec3 n = cross / length;
+    const Vec3 pw = (w - n * glm::dot(n, w)) / length;
+    ga += glm::cross(b - c, pw), gb += glm::cross(c - a, pw), gc += glm::cross(a - b, pw);
+}
 
 // The mean of v's ring in x.
 Vec3 ring_centroid(const std::vector<Vec3>& x, const VertexRings& rings, std::uint32_t v) {
@@ -127,7 +151,57 @@ FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>&
     at_rest_->against_at_rest.assign(at_rest_->check.size(), 0);
     for (const std::uint32_t t : folded(at_rest_->rest)) at_rest_->against_at_rest[t] = 1;
     at_rest_->rest_facing = facings(at_rest_->rest);
+    prepare_lift();
     prepare_affine_test(rings);
+}
+
+// The lift's data at rest (normals_ at rest): per vertex, the entries whose
+// measure its move changes (those with it on their triangle or a neighbour),
+// and per entry its cosine and area at rest and its test for the GPU.
+void FoldRepair::prepare_lift() {
+    const auto n = static_cast<std::uint32_t>(at_rest_->rest.size());
+    const std::vector<Vec3>& rest = at_rest_->rest;
+    // Each entry's vertices (its triangle's and its neighbours', each once), in
+    // two passes: the counts per vertex, then the lists.
+    const auto support = [&](std::uint32_t i, std::uint32_t(&out)[12]) {
+        int count = 0;
+        const auto add = [&](const Triangle& t) {
+            for (int c = 0; c < 3; ++c)
+                if (std::find(out, out + count, t[c]) == out + count) out[count++] = t[c];
+        };
+        add(at_rest_->triangles[at_rest_->check[i]]);
+        for (std::uint32_t k = at_rest_->neighbour_offsets[i]; k < at_rest_->neighbour_offsets[i + 1]; ++k)
+            add(at_rest_->triangles[at_rest_->neighbours[k]]);
+        return count;
+    };
+    std::vector<std::uint32_t>& offsets = at_rest_->entry_offsets;
+    offsets.assign(n + 1, 0);
+    std::uint32_t vertices[12];
+    for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i)
+        for (int k = 0, count = support(i, vertices); k < count; ++k) ++offsets[vertices[k] + 1];
+    for (std::uint32_t v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
+    at_rest_->entries_of_vertex.resize(offsets[n]);
+    std::vector<std::uint32_t> filled(offsets.begin(), offsets.end() - 1);
+    for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i)
+        for (int k = 0, count = support(i, vertices); k < count; ++k)
+            at_rest_->entries_of_vertex[filled[vertices[k]]++] = i;
+    at_rest_->rest_cosine.resize(at_rest_->check.size());
+    at_rest_->rest_area.resize(at_rest_->check.size());
+    for (std::size_t i = 0; i < at_rest_->check.size(); ++i) {
+        const Triangle& t = at_rest_->triangles[at_rest_->check[i]];
+        at_rest_->rest_area[i] = glm::length(glm::cross(rest[t[1]] - rest[t[0]], rest[t[2]] - rest[t[0]]));
+        const Vec3 sum = neighbour_normal_sum(i);
+        const double length = glm::length(sum);
+        at_rest_->rest_cosine[i] = length > 0.0 ? glm::dot(normals_[at_rest_->check[i]], sum) / length : 0.0;
+    }
+    // The same test in floats for the GPU: neighbour_lift < −slack ⇔ N·Ŝ − margin |N| < floor.
+    for (std::size_t i = 0; i < at_rest_->check.size(); ++i) {
+        const double cosine = at_rest_->rest_cosine[i];
+        const bool tested = !at_rest_->against_at_rest[i] && cosine > 0.0;
+        at_rest_->margin.push_back(float(kLiftMargin * cosine));
+        at_rest_->floor.push_back(tested ? float((1.0 - kLiftSlack) * kLiftArea * cosine * at_rest_->rest_area[i])
+                                         : std::numeric_limits<float>::lowest());
+    }
 }
 
 namespace {
@@ -250,9 +324,12 @@ std::vector<std::uint32_t> FoldRepair::affine_folded(const std::vector<Vec3>& x,
 
 // The affine test of every at_rest_->check entry into affine_flags_, or with `moved` of
 // those a move of these vertices can change: the entries with a corner whose
-// star holds one of them.
-void FoldRepair::test_affine(const std::vector<Vec3>& x, const VertexRings& rings,
-                             const std::vector<std::uint32_t>* moved) {
+// star holds one of them. With `fit_measures`, also the lift's measure against
+// the fit (fit_lift) of each entry tested, from the same fit. Returns the
+// entries tested with `moved`.
+std::vector<std::uint32_t> FoldRepair::test_affine(const std::vector<Vec3>& x, const VertexRings& rings,
+                                                   const std::vector<std::uint32_t>* moved,
+                                                   std::vector<double>* fit_measures) {
     std::vector<std::uint32_t> stars, entries;  // at_rest_->fit_vertices and at_rest_->check positions to test again
     if (moved) {
         for (const std::uint32_t v : *moved) {
@@ -283,9 +360,21 @@ void FoldRepair::test_affine(const std::vector<Vec3>& x, const VertexRings& ring
     parallel_for(entry_count, [&](std::size_t first, std::size_t last) {
         for (std::size_t k = first; k < last; ++k) {
             const std::uint32_t i = moved ? entries[k] : static_cast<std::uint32_t>(k);
-            affine_flags_[i] = reversed_by_fit(i, x);
+            if (!fit_measures) {
+                affine_flags_[i] = reversed_by_fit(i, x);
+                continue;
+            }
+            if (at_rest_->rest_fits[i].weight == 0.0) {
+                affine_flags_[i] = 0, (*fit_measures)[i] = std::numeric_limits<double>::infinity();
+                continue;
+            }
+            Vec3 fitted, image;
+            fit_images(i, x, fitted, image);
+            affine_flags_[i] = glm::dot(fitted, image) <= 0.0;
+            (*fit_measures)[i] = fit_lift(i, fitted, image);
         }
     });
+    return entries;
 }
 
 // Whether at_rest_->check entry i's image in x faces against the one its fit gives it.
@@ -323,6 +412,22 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const 
     neighbour = out.size();
     if (!affine_test) return out;
     test_affine(x, rings, moved);
+    return with_affine(out);
+}
+
+// The same as folded(x, rings, affine_test, nullptr, neighbour) right after
+// lift(x, rings, affine_test), which left normals_ and flags_ (and with the
+// affine test, sums_ and affine_flags_) fresh for x.
+std::vector<std::uint32_t> FoldRepair::folded_as_lifted(bool affine_test, std::size_t& neighbour) {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i)
+        if (flags_[i]) out.push_back(i);
+    neighbour = out.size();
+    return affine_test ? with_affine(out) : out;
+}
+
+// The entries in `by_neighbours` (ascending) or flagged by the affine test.
+std::vector<std::uint32_t> FoldRepair::with_affine(const std::vector<std::uint32_t>& out) const {
     std::vector<std::uint32_t> both;
     std::size_t k = 0;
     for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i) {
@@ -335,10 +440,15 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const 
 
 std::size_t FoldRepair::count_folds(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test) {
     if (!active()) return 0;
-    std::size_t neighbour = 0;
-    const std::size_t count = folded(x, rings, affine_test, nullptr, neighbour).size();
+    facings(x);  // normals_ fresh for every triangle
+    std::vector<double> by_fit(at_rest_->check.size(), std::numeric_limits<double>::infinity());
+    if (affine_test) test_affine(x, rings, nullptr, &by_fit);
+    std::vector<std::uint8_t> short_of(at_rest_->check.size());
+    parallel_for(short_of.size(), [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) short_of[i] = short_of_target(i, neighbour_lift(i, x), by_fit[i]);
+    });
     std::vector<StarSums>().swap(sums_);  // held only while a repair runs
-    return count;
+    return std::size_t(std::count(short_of.begin(), short_of.end(), std::uint8_t(1)));
 }
 
 // The at_rest_->check entries (positions in at_rest_->check) whose triangle faces against the mean
@@ -693,21 +803,257 @@ std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::ui
     return moved;
 }
 
+// The sum of check entry i's neighbours' unit normals in normals_.
+Vec3 FoldRepair::neighbour_normal_sum(std::size_t i) const {
+    const AtRest& rest = *at_rest_;
+    Vec3 sum(0.0);
+    for (std::uint32_t k = rest.neighbour_offsets[i]; k < rest.neighbour_offsets[i + 1]; ++k)
+        sum += normals_[rest.neighbours[k]];
+    return sum;
+}
+
+// The lift's measure of check entry i against its neighbours (normals_ for
+// theirs): N·Ŝ − c (kLiftMargin |N| + kLiftArea A), N its area vector in x, Ŝ
+// the unit sum of its neighbours' normals, c its cosine n·Ŝ at rest and A its
+// area at rest; +inf where not tested. Below 0 it is short of its target. It
+// is linear in each corner and, unlike n·Ŝ, steep for a corner pushed through
+// its triangle's base: the lift moves it back across.
+double FoldRepair::neighbour_lift(std::size_t i, const std::vector<Vec3>& x) const {
+    const AtRest& rest = *at_rest_;
+    const double cosine = rest.rest_cosine[i];
+    if (rest.against_at_rest[i] || !(cosine > 0.0)) return std::numeric_limits<double>::infinity();
+    const Vec3 sum = neighbour_normal_sum(i);
+    const double length = glm::length(sum);
+    if (!(length > 0.0)) return std::numeric_limits<double>::infinity();
+    const Triangle& t = rest.triangles[rest.check[i]];
+    const Vec3 area = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
+    return glm::dot(area, sum) / length - cosine * (kLiftMargin * glm::length(area) + kLiftArea * rest.rest_area[i]);
+}
+
+// The same against the image its affine fit gives it (`fitted`, with `image`
+// its area vector, from fit_images): N·F̂ − kLiftMargin |N| − kLiftArea A;
+// +inf where the fit has no area.
+double FoldRepair::fit_lift(std::size_t i, const Vec3& fitted, const Vec3& image) const {
+    const double length = glm::length(fitted);
+    if (!(length > 0.0)) return std::numeric_limits<double>::infinity();
+    return glm::dot(image, fitted) / length - kLiftMargin * glm::length(image) - kLiftArea * at_rest_->rest_area[i];
+}
+
+// Whether check entry i, with these measures, is short of the lift's targets by
+// more than the slack: what the lift and count_folds act on.
+bool FoldRepair::short_of_target(std::size_t i, double by_neighbours, double by_fit) const {
+    const double slack = kLiftSlack * kLiftArea * at_rest_->rest_area[i];
+    return by_neighbours < -slack * at_rest_->rest_cosine[i] || by_fit < -slack;
+}
+
+// Normals and the lift's measures again where `moved` moved: returns the
+// entries about those vertices (ascending), whose measures were taken again.
+std::vector<std::uint32_t> FoldRepair::refresh_lift(const std::vector<Vec3>& x, const VertexRings& rings,
+                                                    const std::vector<std::uint32_t>& moved, bool affine_test) {
+    const AtRest& rest = *at_rest_;
+    std::vector<std::uint32_t> again;
+    for (const std::uint32_t v : moved)
+        for (std::uint32_t k = rest.entry_offsets[v]; k < rest.entry_offsets[v + 1]; ++k)
+            if (!entry_mark_[rest.entries_of_vertex[k]])
+                entry_mark_[rest.entries_of_vertex[k]] = 1, again.push_back(rest.entries_of_vertex[k]);
+    for (const std::uint32_t i : again) {
+        entry_mark_[i] = 0;
+        normals_[rest.check[i]] = unit_normal(x, rest.triangles[rest.check[i]]);
+        for (std::uint32_t k = rest.neighbour_offsets[i]; k < rest.neighbour_offsets[i + 1]; ++k)
+            normals_[rest.neighbours[k]] = unit_normal(x, rest.triangles[rest.neighbours[k]]);
+    }
+    for (const std::uint32_t i : again)
+        lift_by_neighbours_[i] = neighbour_lift(i, x), flags_[i] = faces_against_neighbours(i);
+    if (affine_test)
+        for (const std::uint32_t i : test_affine(x, rings, &moved, &lift_by_fit_)) again.push_back(i);
+    std::sort(again.begin(), again.end());
+    again.erase(std::unique(again.begin(), again.end()), again.end());
+    return again;
+}
+
+// Adds to `sum` the lift's moves for check entry i, short of a target: for each
+// measure below 0, −value / |∇|² ∇ over the movable vertices, ∇ its gradient.
+void FoldRepair::add_lift_moves(std::uint32_t i, const std::vector<Vec3>& x, bool affine_test,
+                                std::unordered_map<std::uint32_t, Vec3>& sum) const {
+    const AtRest& rest = *at_rest_;
+    const Triangle& t = rest.triangles[rest.check[i]];
+    std::uint32_t vertex[12];
+    Vec3 gradient[12];
+    int count = 0;
+    const auto slot = [&](std::uint32_t v) -> Vec3& {
+        for (int k = 0; k < count; ++k)
+            if (vertex[k] == v) return gradient[k];
+        vertex[count] = v, gradient[count] = Vec3(0.0);
+        return gradient[count++];
+    };
+    // Adds −value / |∇|² ∇ over the movable vertices, the gradient in `gradient`.
+    const auto project = [&](double value) {
+        double norm2 = 0.0;
+        for (int k = 0; k < count; ++k)
+            if (rest.movable[vertex[k]]) norm2 += glm::dot(gradient[k], gradient[k]);
+        if (!(norm2 > 0.0)) return;
+        for (int k = 0; k < count; ++k)
+            if (rest.movable[vertex[k]]) sum[vertex[k]] -= (value / norm2) * gradient[k];
+    };
+    const Vec3 area = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
+    const double area_length = glm::length(area);
+    const Vec3 normal = area_length > 0.0 ? area / area_length : Vec3(0.0);
+    if (lift_by_neighbours_[i] < 0.0) {
+        const Vec3 s = neighbour_normal_sum(i);
+        const double length = glm::length(s);
+        const Vec3 unit = s / length;
+        add_area_gradient(x[t[0]], x[t[1]], x[t[2]], unit - (kLiftMargin * rest.rest_cosine[i]) * normal, slot(t[0]),
+                          slot(t[1]), slot(t[2]));
+        // Through Ŝ: d(N·Ŝ) = (N − (N·Ŝ)Ŝ)/|S| · Σ dm.
+        const Vec3 w = (area - unit * glm::dot(unit, area)) / length;
+        for (std::uint32_t k = rest.neighbour_offsets[i]; k < rest.neighbour_offsets[i + 1]; ++k) {
+            const Triangle& o = rest.triangles[rest.neighbours[k]];
+            Vec3 &g0 = slot(o[0]), &g1 = slot(o[1]), &g2 = slot(o[2]);
+            add_facing_gradient(x[o[0]], x[o[1]], x[o[2]], w, g0, g1, g2);
+        }
+        project(lift_by_neighbours_[i]);
+    }
+    if (affine_test && lift_by_fit_[i] < 0.0) {
+        count = 0;
+        Vec3 fitted, image;
+        fit_images(i, x, fitted, image);
+        add_area_gradient(x[t[0]], x[t[1]], x[t[2]], glm::normalize(fitted) - kLiftMargin * normal, slot(t[0]),
+                          slot(t[1]), slot(t[2]));
+        project(lift_by_fit_[i]);
+    }
+}
+
+// Step 0, the lift: Jacobi sweeps of a projection of each entry short of its
+// targets (neighbour_lift ≥ 0 and, with the affine test, fit_lift ≥ 0) toward
+// them along the gradient. Each sweep's moves are continuous in x, so two runs
+// that reach a repair time a little apart leave it a little apart. With
+// `moved_since`, x differs from where the last lift left it only at those
+// vertices. Returns the vertices it moved, each with where it started.
+std::vector<std::pair<std::uint32_t, Vec3>> FoldRepair::lift(std::vector<Vec3>& x, const VertexRings& rings,
+                                                             bool affine_test,
+                                                             const std::vector<std::uint32_t>* moved_since) {
+    const AtRest& rest = *at_rest_;
+    const std::size_t n = rest.check.size();
+    std::vector<double>& by_neighbours = lift_by_neighbours_;
+    std::vector<double>& by_fit = lift_by_fit_;
+    entry_mark_.assign(n, 0);
+    if (moved_since) {
+        refresh_lift(x, rings, *moved_since, affine_test);
+    } else {
+        normals_.resize(rest.triangles.size());
+        parallel_for(rest.triangles.size(), [&](std::size_t first, std::size_t last) {
+            unit_normals(x, rest.triangles, first, last, normals_);
+        });
+        by_neighbours.resize(n);
+        flags_.resize(n);
+        parallel_for(n, [&](std::size_t first, std::size_t last) {
+            for (std::size_t i = first; i < last; ++i)
+                by_neighbours[i] = neighbour_lift(i, x), flags_[i] = faces_against_neighbours(i);
+        });
+        by_fit.assign(affine_test ? n : 0, std::numeric_limits<double>::infinity());
+        if (affine_test) test_affine(x, rings, nullptr, &by_fit);
+    }
+    const auto is_low = [&](std::size_t i) {
+        return short_of_target(i, by_neighbours[i], affine_test ? by_fit[i] : std::numeric_limits<double>::infinity());
+    };
+    std::vector<std::uint32_t> low;
+    for (std::uint32_t i = 0; i < n; ++i)
+        if (is_low(i)) low.push_back(i);
+    std::vector<std::uint32_t> moved_all, moved;
+    std::unordered_map<std::uint32_t, Vec3> sum;
+    std::unordered_map<std::uint32_t, std::pair<Vec3, double>> start;
+    for (int sweep = 0; sweep < kLiftSweeps && !low.empty(); ++sweep) {
+        sum.clear();
+        for (const std::uint32_t i : low) add_lift_moves(i, x, affine_test, sum);
+        moved.clear();
+        for (const auto& entry : sum) moved.push_back(entry.first);
+        std::sort(moved.begin(), moved.end());
+        if (moved.empty()) break;
+        std::vector<Vec3> step(moved.size());
+        for (std::size_t k = 0; k < moved.size(); ++k) {
+            step[k] = kLiftRelaxation * sum.at(moved[k]);
+            const double length = glm::length(step[k]);
+            const double reach = kLiftStep * mean_edge(x, rings, moved[k]);
+            if (length > reach) step[k] *= reach / length;
+        }
+        for (std::size_t k = 0; k < moved.size(); ++k) {
+            const std::uint32_t v = moved[k];
+            if (!mark_[v])
+                mark_[v] = 2, moved_all.push_back(v),
+                start.emplace(v, std::make_pair(x[v], kReach * mean_edge(x, rings, v)));
+            const auto& [from, reach] = start.at(v);
+            x[v] += step[k];
+            const Vec3 move = x[v] - from;  // no further than the discrete repair's reach from where it started
+            const double length = glm::length(move);
+            if (length > reach) x[v] = from + (reach / length) * move;
+        }
+        // The low entries and those whose measures the moves changed.
+        const std::vector<std::uint32_t> again = refresh_lift(x, rings, moved, affine_test);
+        std::vector<std::uint32_t> candidates;
+        std::set_union(low.begin(), low.end(), again.begin(), again.end(), std::back_inserter(candidates));
+        low.clear();
+        for (const std::uint32_t i : candidates)
+            if (is_low(i)) low.push_back(i);
+    }
+    std::sort(moved_all.begin(), moved_all.end());
+    std::vector<std::pair<std::uint32_t, Vec3>> out;
+    for (const std::uint32_t v : moved_all) mark_[v] = 0, out.emplace_back(v, start.at(v).first);
+    return out;
+}
+
+// Each lifted vertex toward its ring's affine image of its rest position (three
+// half steps, as the rounds' ring fits), by a weight that grows from 0 with how
+// far the lift moved it and is 1 from kLiftSettle of its mean edge: a corner
+// the lift pulled back across its base, at its target's edge, is placed as a
+// smooth field would place it, and one the lift touched is hardly moved.
+void FoldRepair::settle(const std::vector<std::pair<std::uint32_t, Vec3>>& lifted, std::vector<Vec3>& x,
+                        const VertexRings& rings) const {
+    std::vector<double> weight(lifted.size());
+    for (std::size_t k = 0; k < lifted.size(); ++k) {
+        const auto& [v, from] = lifted[k];
+        weight[k] = std::min(1.0, glm::length(x[v] - from) / (kLiftSettle * mean_edge(x, rings, v)));
+    }
+    std::vector<Vec3> ring_rest, ring_now, moved(lifted.size());
+    for (int iteration = 0; iteration < kRingIterations; ++iteration) {
+        for (std::size_t k = 0; k < lifted.size(); ++k) {
+            const std::uint32_t v = lifted[k].first;
+            ring_rest.clear(), ring_now.clear();
+            for (std::uint32_t j = rings.begin(v); j < rings.end(v); ++j)
+                ring_rest.push_back(at_rest_->rest[rings.neighbours[j]]), ring_now.push_back(x[rings.neighbours[j]]);
+            moved[k] = x[v] + 0.5 * weight[k] * (fit_affine(ring_rest, ring_now).apply(at_rest_->rest[v]) - x[v]);
+        }
+        for (std::size_t k = 0; k < lifted.size(); ++k) x[lifted[k].first] = moved[k];
+    }
+}
+
 std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, bool affine_test, bool new_step) {
     acted_ = false;
     if (!active()) return 0;
+    // Step 0: the lift, the lifted vertices' settling, and the lift again for
+    // what settling left short.
+    const std::vector<std::pair<std::uint32_t, Vec3>> lifted = lift(x, rings, affine_test);
+    if (!lifted.empty()) {
+        settle(lifted, x, rings);
+        std::vector<std::uint32_t> settled;
+        for (const auto& [v, from] : lifted) settled.push_back(v);
+        lift(x, rings, affine_test, &settled);
+        acted_ = true;
+        stats_.steps_repaired += new_step;
+        for (const auto& [v, from] : lifted) stats_.max_shift = std::max(stats_.max_shift, glm::length(x[v] - from));
+    }
     // A round's folds: the neighbour test's first (the count the fold guard and
     // the battery report), then those of both tests.
     using Score = std::pair<std::size_t, std::size_t>;
     std::size_t neighbour = 0;
-    std::vector<std::uint32_t> bad = folded(x, rings, affine_test, nullptr, neighbour);
+    std::vector<std::uint32_t> bad = folded_as_lifted(affine_test, neighbour);
     if (bad.empty()) {
         std::vector<StarSums>().swap(sums_);  // the affine test's sums are held only while a repair runs
         return 0;
     }
     const Score found{neighbour, bad.size()};
+    stats_.steps_repaired += new_step && !acted_;
+    stats_.steps_untangled += new_step;
     acted_ = true;
-    stats_.steps_repaired += new_step;
     struct Start {
         Vec3 position;
         double reach;  // how far the repair may move the vertex: kReach of its ring's mean edge
@@ -784,13 +1130,15 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
 std::size_t FoldRepair::bytes(bool shared) const {
     const auto capacity = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     const std::size_t scratch = capacity(normals_) + capacity(flags_) + capacity(touched_) + capacity(mark_) +
-                                capacity(sums_) + capacity(affine_flags_) + capacity(near_);
+                                capacity(sums_) + capacity(affine_flags_) + capacity(near_) + capacity(entry_mark_) +
+                                capacity(lift_by_neighbours_) + capacity(lift_by_fit_);
     if (!shared) return scratch;
     const AtRest& r = *at_rest_;
     return scratch + capacity(r.rest) + capacity(r.input_index) + capacity(r.movable) + capacity(r.triangles) +
            capacity(r.check) + capacity(r.neighbour_offsets) + capacity(r.neighbours) + capacity(r.against_at_rest) +
-           capacity(r.rest_facing) + capacity(r.fit_vertices) + capacity(r.fit_of) + capacity(r.rest_sums) +
-           capacity(r.rest_fits);
+           capacity(r.rest_facing) + capacity(r.rest_cosine) + capacity(r.rest_area) + capacity(r.margin) +
+           capacity(r.floor) + capacity(r.entry_offsets) + capacity(r.entries_of_vertex) + capacity(r.fit_vertices) +
+           capacity(r.fit_of) + capacity(r.rest_sums) + capacity(r.rest_fits);
 }
 
 }  // namespace vfsd

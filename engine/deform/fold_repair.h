@@ -3,9 +3,25 @@
 // smooth field; the engine samples it at the vertices (each with its own ∇r from
 // its ring), and on scenes nobody tuned the sampled map can still fold a
 // triangle where it varies by order one across a few rings (docs/method.md,
-// "Keeping the promise"). At every 1/20 of unit time, the blend vertices of each
-// triangle that turned to face against its edge neighbours (deform/quality.h's
-// measure) are placed again by the map a smooth field makes there to first order:
+// "Keeping the promise"). At every 1/20 of unit time:
+//
+// 0. the lift: every checked triangle short of a target, N·Ŝ ≥ c (0.1 |N| +
+//    0.05 A) (N its area vector, Ŝ the unit sum of its edge neighbours' normals,
+//    c its cosine to that sum at rest and A its area at rest; at every 1/5 also
+//    N·F̂ ≥ 0.1 |N| + 0.05 A against the affine test's image F), which every
+//    folded triangle is, is projected toward it along the measure's gradient,
+//    in Jacobi sweeps over the blend vertices. Each sweep is continuous in the
+//    positions, so that runs which reach a repair time a little apart leave it
+//    a little apart; the measure is linear in each corner, so a corner pushed
+//    through its triangle's base is moved back across it. Each lifted vertex
+//    then settles toward its ring's affine image of its rest position (as in
+//    1.) by a weight growing from 0 with how far the lift moved it, and the
+//    lift runs again for what settling left short (docs/method.md, "The lift").
+//
+// What the lift leaves folded (a deep fold it could not reach in its sweeps),
+// the blend vertices of each triangle that still faces against its edge
+// neighbours (deform/quality.h's measure) are placed again by the map a smooth
+// field makes there to first order:
 //
 // 1. rounds 1–10: each vertex moves halfway, three times, toward the image of its
 //    rest position under the affine map that best takes its ring's rest positions
@@ -46,7 +62,8 @@
 // (docs/method.md, "The fold repair").
 //
 // It acts at fixed times, after the step that reaches or passes a multiple of
-// 1/kRepairTimes. An error-controlled step that passes one and leaves a fold is
+// 1/kRepairTimes. An error-controlled step that passes one and leaves a
+// triangle short of the lift's target (a fold, in what follows) is
 // tried again to end on it (repair_time_within), as fixed steps do at 20, 40,
 // ... steps per unit time; one that leaves none goes on, so that a scene that
 // does not fold takes no more steps. At those times runs of any step count
@@ -67,6 +84,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include <glm/mat3x3.hpp>
@@ -81,17 +99,23 @@ namespace vfsd {
 // (check) and their edge neighbours, indices into `triangles`. Entry i is folded
 // when its triangle's unit normal faces against the sum of its neighbours' (those
 // of neighbours[neighbour_offsets[i] .. neighbour_offsets[i + 1]]) and it did not
-// at rest (against_at_rest[i]). The GPU's fold pass takes it (gpu/gpu_passes.h).
+// at rest (against_at_rest[i]); it is short of the lift's target when
+// N·Ŝ − margin[i] |N| < floor[i], N its area vector and Ŝ its neighbours' unit
+// normal sum (floor the lowest float where not tested), which a fold always is. The GPU's
+// fold pass counts those (gpu/gpu_passes.h), as count_folds does.
 struct FoldChecks {
     const std::vector<Triangle>& triangles;
     const std::vector<std::uint32_t>& check;
     const std::vector<std::uint32_t>& neighbour_offsets;
     const std::vector<std::uint32_t>& neighbours;
     const std::vector<std::uint8_t>& against_at_rest;
+    const std::vector<float>& margin;
+    const std::vector<float>& floor;
 };
 
 struct FoldRepairStats {
-    std::size_t steps_repaired = 0;  // steps after which some triangle was folded
+    std::size_t steps_repaired = 0;   // steps after which the repair moved vertices (step 0 or the rounds)
+    std::size_t steps_untangled = 0;  // of those, the steps a triangle was still folded after step 0
     std::size_t vertex_moves = 0;    // Σ over rounds of the vertices placed again
     double max_shift = 0.0;          // the largest move of one vertex in one step, in the positions' units
 };
@@ -123,8 +147,9 @@ public:
     static double repair_time_within(double from, double to);
     // The first repair time after `time` (forward), or −1 from the last.
     static double next_repair_time(double time);
-    // How many triangles the neighbour test, and with `affine_test` the affine
-    // one, find folded in `positions`: what repair() would act on.
+    // How many checked triangles in `positions` are short of the lift's target
+    // (with `affine_test`, of either), every folded one among them: what
+    // repair() would act on.
     std::size_t count_folds(const std::vector<Vec3>& positions, const VertexRings& rings, bool affine_test);
     // Repairs the folds of `positions` (the same order as at construction) as
     // described above, by the neighbour test and, when `affine_test`, the affine
@@ -142,7 +167,7 @@ public:
     const FoldRepairStats& stats() const { return stats_; }
     FoldChecks checks() const {
         const AtRest& r = *at_rest_;
-        return {r.triangles, r.check, r.neighbour_offsets, r.neighbours, r.against_at_rest};
+        return {r.triangles, r.check, r.neighbour_offsets, r.neighbours, r.against_at_rest, r.margin, r.floor};
     }
     // Bytes held; `shared`: with what copies share (the state at rest).
     std::size_t bytes(bool shared = true) const;
@@ -163,12 +188,29 @@ public:
 
 private:
     std::vector<std::uint32_t> folded(const std::vector<Vec3>& x, const std::vector<std::uint32_t>* moved = nullptr);
+    std::vector<std::uint32_t> folded_as_lifted(bool affine_test, std::size_t& neighbour);
+    std::vector<std::uint32_t> with_affine(const std::vector<std::uint32_t>& by_neighbours) const;
+    std::vector<std::pair<std::uint32_t, Vec3>> lift(std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
+                                                     const std::vector<std::uint32_t>* moved_since = nullptr);
+    void add_lift_moves(std::uint32_t entry, const std::vector<Vec3>& x, bool affine_test,
+                        std::unordered_map<std::uint32_t, Vec3>& sum) const;
+    std::vector<std::uint32_t> refresh_lift(const std::vector<Vec3>& x, const VertexRings& rings,
+                                            const std::vector<std::uint32_t>& moved, bool affine_test);
+    void settle(const std::vector<std::pair<std::uint32_t, Vec3>>& lifted, std::vector<Vec3>& x,
+                const VertexRings& rings) const;
+    Vec3 neighbour_normal_sum(std::size_t entry) const;
+    double neighbour_lift(std::size_t entry, const std::vector<Vec3>& x) const;
+    double fit_lift(std::size_t entry, const Vec3& fitted, const Vec3& image) const;
+    bool short_of_target(std::size_t entry, double by_neighbours, double by_fit) const;
     bool faces_against_neighbours(std::size_t entry) const;
     std::vector<float> facings(const std::vector<Vec3>& x);
     std::vector<std::uint32_t> folded(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
                                       const std::vector<std::uint32_t>* moved, std::size_t& neighbour);
     void prepare_affine_test(const VertexRings& rings);
-    void test_affine(const std::vector<Vec3>& x, const VertexRings& rings, const std::vector<std::uint32_t>* moved);
+    void prepare_lift();
+    std::vector<std::uint32_t> test_affine(const std::vector<Vec3>& x, const VertexRings& rings,
+                                           const std::vector<std::uint32_t>* moved,
+                                           std::vector<double>* fit_measures = nullptr);
     bool reversed_by_fit(std::uint32_t entry, const std::vector<Vec3>& x) const;
     void fit_images(std::uint32_t entry, const std::vector<Vec3>& x, Vec3& fitted, Vec3& image) const;
     std::vector<std::uint32_t> vertices_to_move(const std::vector<std::uint32_t>& folded, int rings_out,
@@ -191,6 +233,11 @@ private:
         std::vector<std::uint32_t> check, neighbour_offsets, neighbours;
         std::vector<std::uint8_t> against_at_rest;  // per check entry
         std::vector<float> rest_facing;             // per check entry: facings(rest)
+        std::vector<double> rest_cosine, rest_area;  // per check entry: n·Ŝ and |N| at rest (the lift's)
+        std::vector<float> margin, floor;            // per check entry: the lift's test as FoldChecks gives it
+        // Per vertex v, the entries entries_of_vertex[entry_offsets[v] .. entry_offsets[v + 1]]
+        // with v on their triangle or a neighbour.
+        std::vector<std::uint32_t> entry_offsets, entries_of_vertex;
         // The affine test's data (see prepare_affine_test): its vertices (the
         // corners of the checked triangles; fit_of[v] indexes them, or kNone) with
         // their stars' sums at rest, and per check entry what its fit keeps from rest.
@@ -206,6 +253,10 @@ private:
     std::vector<StarSums> sums_;                 // per fit vertex, now: held only while a repair runs
     std::vector<std::uint8_t> affine_flags_;     // per check entry: the affine test's last result
     std::vector<std::uint8_t> near_;             // per vertex, scratch
+    std::vector<std::uint8_t> entry_mark_;       // per check entry, scratch
+    // The lift's measures per check entry (neighbour_lift, fit_lift) in the last
+    // positions it saw: held between its two runs in a repair.
+    std::vector<double> lift_by_neighbours_, lift_by_fit_;
     FoldRepairStats stats_;
     bool acted_ = false;
 };

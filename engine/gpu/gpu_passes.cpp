@@ -1,6 +1,7 @@
 #include "gpu/gpu_passes.h"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -321,13 +322,23 @@ void GpuPasses::set_fold_checks(const FoldChecks& checks, const std::vector<std:
     fold_check_count_ = checks.check.size();
     if (fold_check_count_ == 0) return;
     std::vector<std::int32_t> triangles, entries, neighbours(checks.neighbours.begin(), checks.neighbours.end());
-    for (const Triangle& t : checks.triangles)
-        for (int c = 0; c < 4; ++c) triangles.push_back(c < 3 ? static_cast<std::int32_t>(to_vertex[t[c]]) : 0);
+    // A float's bits in an integer texel, for intBitsToFloat in the shader.
+    const auto bits = [](float value) {
+        std::int32_t out;
+        std::memcpy(&out, &value, sizeof out);
+        return out;
+    };
+    // Each triangle's corners, and where it is a checked one its entry's margin.
+    std::vector<float> margin(checks.triangles.size(), 0.0f);
+    for (std::size_t i = 0; i < fold_check_count_; ++i) margin[checks.check[i]] = checks.margin[i];
+    for (std::size_t t = 0; t < checks.triangles.size(); ++t)
+        for (int c = 0; c < 4; ++c)
+            triangles.push_back(c < 3 ? static_cast<std::int32_t>(to_vertex[checks.triangles[t][c]]) : bits(margin[t]));
     for (std::size_t i = 0; i < fold_check_count_; ++i) {
         const std::uint32_t first = checks.neighbour_offsets[i], last = checks.neighbour_offsets[i + 1];
-        for (const std::uint32_t value :
-             {checks.check[i], first, last - first, std::uint32_t(checks.against_at_rest[i])})
+        for (const std::uint32_t value : {checks.check[i], first, last - first})
             entries.push_back(static_cast<std::int32_t>(value));
+        entries.push_back(bits(checks.floor[i]));
     }
     fold_triangles_ = integer_texture(triangles, 4, checks.triangles.size(), max_texture_size_);
     fold_checks_ = integer_texture(entries, 4, fold_check_count_, max_texture_size_);
