@@ -440,7 +440,7 @@ std::vector<std::uint32_t> FoldRepair::with_affine(const std::vector<std::uint32
 
 std::size_t FoldRepair::count_folds(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test) {
     if (!active()) return 0;
-    facings(x);  // normals_ fresh for every triangle
+    take_normals(x);
     std::vector<double> by_fit(at_rest_->check.size(), std::numeric_limits<double>::infinity());
     if (affine_test) test_affine(x, rings, nullptr, &by_fit);
     std::vector<std::uint8_t> short_of(at_rest_->check.size());
@@ -520,13 +520,18 @@ bool FoldRepair::faces_against_neighbours(std::size_t i) const {
     return n.x * sx + n.y * sy + n.z * sz < 0.0;
 }
 
-// Per at_rest_->check entry, n·Σm in x: its triangle's unit normal against the sum of
-// its neighbours' (as folded(x) tests it; 0 without neighbours).
-std::vector<float> FoldRepair::facings(const std::vector<Vec3>& x) {
+// Every triangle's unit normal in x, into normals_.
+void FoldRepair::take_normals(const std::vector<Vec3>& x) {
     normals_.resize(at_rest_->triangles.size());
     parallel_for(at_rest_->triangles.size(), [&](std::size_t first, std::size_t last) {
         unit_normals(x, at_rest_->triangles, first, last, normals_);
     });
+}
+
+// Per at_rest_->check entry, n·Σm in x: its triangle's unit normal against the sum of
+// its neighbours' (as folded(x) tests it; 0 without neighbours).
+std::vector<float> FoldRepair::facings(const std::vector<Vec3>& x) {
+    take_normals(x);
     std::vector<float> out(at_rest_->check.size());
     parallel_for(at_rest_->check.size(), [&](std::size_t first, std::size_t last) {
         for (std::size_t i = first; i < last; ++i) {
@@ -557,9 +562,10 @@ std::vector<std::uint32_t> FoldRepair::vertices_to_move(const std::vector<std::u
     return out;
 }
 
-// Step 1: every vertex halfway toward its ring's affine image of its rest position.
-void FoldRepair::refit_rings(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x,
-                             const VertexRings& rings) const {
+// Step 1: every vertex halfway toward its ring's affine image of its rest position
+// (with `weights`, each by its weight times half: the lift's settling).
+void FoldRepair::refit_rings(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x, const VertexRings& rings,
+                             const std::vector<double>* weights) const {
     std::vector<Vec3> from, to, moved(vertices.size());
     for (int iteration = 0; iteration < kRingIterations; ++iteration) {
         for (std::size_t i = 0; i < vertices.size(); ++i) {
@@ -567,7 +573,8 @@ void FoldRepair::refit_rings(const std::vector<std::uint32_t>& vertices, std::ve
             from.clear(), to.clear();
             for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
                 from.push_back(at_rest_->rest[rings.neighbours[k]]), to.push_back(x[rings.neighbours[k]]);
-            moved[i] = x[v] + 0.5 * (fit_affine(from, to).apply(at_rest_->rest[v]) - x[v]);
+            const double share = weights ? 0.5 * (*weights)[i] : 0.5;
+            moved[i] = x[v] + share * (fit_affine(from, to).apply(at_rest_->rest[v]) - x[v]);
         }
         for (std::size_t i = 0; i < vertices.size(); ++i) x[vertices[i]] = moved[i];
     }
@@ -936,14 +943,11 @@ std::vector<std::pair<std::uint32_t, Vec3>> FoldRepair::lift(std::vector<Vec3>& 
     const std::size_t n = rest.check.size();
     std::vector<double>& by_neighbours = lift_by_neighbours_;
     std::vector<double>& by_fit = lift_by_fit_;
-    entry_mark_.assign(n, 0);
+    entry_mark_.resize(n, 0);  // refresh_lift leaves it all 0
     if (moved_since) {
         refresh_lift(x, rings, *moved_since, affine_test);
     } else {
-        normals_.resize(rest.triangles.size());
-        parallel_for(rest.triangles.size(), [&](std::size_t first, std::size_t last) {
-            unit_normals(x, rest.triangles, first, last, normals_);
-        });
+        take_normals(x);
         by_neighbours.resize(n);
         flags_.resize(n);
         parallel_for(n, [&](std::size_t first, std::size_t last) {
@@ -1008,22 +1012,13 @@ std::vector<std::pair<std::uint32_t, Vec3>> FoldRepair::lift(std::vector<Vec3>& 
 // smooth field would place it, and one the lift touched is hardly moved.
 void FoldRepair::settle(const std::vector<std::pair<std::uint32_t, Vec3>>& lifted, std::vector<Vec3>& x,
                         const VertexRings& rings) const {
-    std::vector<double> weight(lifted.size());
-    for (std::size_t k = 0; k < lifted.size(); ++k) {
-        const auto& [v, from] = lifted[k];
-        weight[k] = std::min(1.0, glm::length(x[v] - from) / (kLiftSettle * mean_edge(x, rings, v)));
+    std::vector<std::uint32_t> vertices;
+    std::vector<double> weights;
+    for (const auto& [v, from] : lifted) {
+        vertices.push_back(v);
+        weights.push_back(std::min(1.0, glm::length(x[v] - from) / (kLiftSettle * mean_edge(x, rings, v))));
     }
-    std::vector<Vec3> ring_rest, ring_now, moved(lifted.size());
-    for (int iteration = 0; iteration < kRingIterations; ++iteration) {
-        for (std::size_t k = 0; k < lifted.size(); ++k) {
-            const std::uint32_t v = lifted[k].first;
-            ring_rest.clear(), ring_now.clear();
-            for (std::uint32_t j = rings.begin(v); j < rings.end(v); ++j)
-                ring_rest.push_back(at_rest_->rest[rings.neighbours[j]]), ring_now.push_back(x[rings.neighbours[j]]);
-            moved[k] = x[v] + 0.5 * weight[k] * (fit_affine(ring_rest, ring_now).apply(at_rest_->rest[v]) - x[v]);
-        }
-        for (std::size_t k = 0; k < lifted.size(); ++k) x[lifted[k].first] = moved[k];
-    }
+    refit_rings(vertices, x, rings, &weights);
 }
 
 std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, bool affine_test, bool new_step) {

@@ -203,6 +203,7 @@ private:
     double fit_lift(std::size_t entry, const Vec3& fitted, const Vec3& image) const;
     bool short_of_target(std::size_t entry, double by_neighbours, double by_fit) const;
     bool faces_against_neighbours(std::size_t entry) const;
+    void take_normals(const std::vector<Vec3>& x);
     std::vector<float> facings(const std::vector<Vec3>& x);
     std::vector<std::uint32_t> folded(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
                                       const std::vector<std::uint32_t>* moved, std::size_t& neighbour);
@@ -215,7 +216,8 @@ private:
     void fit_images(std::uint32_t entry, const std::vector<Vec3>& x, Vec3& fitted, Vec3& image) const;
     std::vector<std::uint32_t> vertices_to_move(const std::vector<std::uint32_t>& folded, int rings_out,
                                                 const VertexRings& rings);
-    void refit_rings(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x, const VertexRings& rings) const;
+    void refit_rings(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x, const VertexRings& rings,
+                     const std::vector<double>* weights = nullptr) const;
     std::vector<std::uint32_t> search_vertices(const std::vector<std::uint32_t>& near_folded, std::vector<Vec3>& x,
                                                const VertexRings& rings, bool affine_test,
                                                std::vector<std::pair<std::uint32_t, Vec3>>& undo);
