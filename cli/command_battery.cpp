@@ -1,9 +1,12 @@
 // vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR] [--coarse]
-//              [--worst K] [--steps N | --tolerance T [--reference-steps N]] [--threads N] [--only INDEX]
+//              [--worst K] [--steps N | --tolerance T [--reference-steps N [--baseline-steps M]
+//              [--reference-check]]] [--threads N] [--only INDEX]
 //
 // --tolerance runs error-controlled steps (deform/deformation.h); with
 // --reference-steps each scene also runs that many fixed steps, and the
-// report gives the largest vertex distance between the two and their folds.
+// report gives the largest vertex distance between the two and their folds
+// (--baseline-steps: and M fixed steps' distance from the N; --reference-check:
+// the N's distance from 2N fixed steps, whether the reference has converged).
 //
 // Generates K scenes nobody tuned (engine/scene/battery.h: built-in and given
 // meshes, placed at random, regions of every kind, curves, handles, twists of
@@ -57,12 +60,17 @@ struct Outcome {
     std::size_t vertices_added = 0;  // by those refinements
     std::vector<RunTried> runs;      // every run made, the input mesh's first
     int steps = 0, rejected = 0;     // the kept run's steps, and those rejected by the step control
+    double estimated_error = 0.0;    // the sum of its steps' error estimates, over the mesh's size
     // With --reference-steps: the largest and the 99.9th-percentile distance to that
     // many fixed steps' result, over the mesh's size (−1: the two runs refined
     // differently), and its folds; the same distances for --baseline-steps.
     double reference_distance = -1.0, reference_distance_p999 = -1.0;
     double baseline_distance = -1.0, baseline_distance_p999 = -1.0;
     std::size_t reference_folds = 0;
+    // With --reference-check: the largest distance from the reference to twice its
+    // steps, over the mesh's size (−1: not run, or refined differently): how far
+    // the reference itself is from converged.
+    double reference_convergence = -1.0;
 
     bool failed() const {
         return !error.empty() || quality.flipped_triangles > 0 || quality.outer_max_displacement != 0.0 ||
@@ -107,11 +115,15 @@ std::pair<double, double> result_distance(const RunResult& a, const RunResult& b
 }
 
 // How far the outcome's result, and the scene's in `baseline_steps` fixed steps
-// (0: none), are from `reference_steps` fixed steps.
-void compare_with_fixed_steps(Outcome& o, int reference_steps, int baseline_steps) {
+// (0: none), are from `reference_steps` fixed steps; with `check`, how far those
+// are from twice as many.
+void compare_with_fixed_steps(Outcome& o, int reference_steps, int baseline_steps, bool check) {
     const auto reference = run_fixed_steps(o, reference_steps, &o.reference_folds);
     if (!reference) return;
     std::tie(o.reference_distance, o.reference_distance_p999) = result_distance({o.result, o.rest}, *reference);
+    if (check)
+        if (const auto finer = run_fixed_steps(o, 2 * reference_steps, nullptr))
+            o.reference_convergence = result_distance(*reference, *finer).first;
     if (baseline_steps <= 0) return;
     if (const auto baseline = run_fixed_steps(o, baseline_steps, nullptr))
         std::tie(o.baseline_distance, o.baseline_distance_p999) = result_distance(*baseline, *reference);
@@ -134,6 +146,7 @@ Outcome run_battery_scene(BatteryScene b) {
         o.repairs = d.fold_repairs();
         o.steps = static_cast<int>(d.step_milliseconds().size());
         o.rejected = d.step_errors().rejected;
+        o.estimated_error = d.step_errors().sum;
     } catch (const NumericalError& e) {
         o.error = e.what();
         o.result = prepared.file.mesh.positions;
@@ -175,11 +188,13 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"refinements", o.refinements},
             {"steps", o.steps},
             {"rejected_steps", o.rejected},
+            {"estimated_error_sum", o.estimated_error},
             {"reference_distance_over_size", o.reference_distance},
             {"reference_distance_over_size_p999", o.reference_distance_p999},
             {"baseline_distance_over_size", o.baseline_distance},
             {"baseline_distance_over_size_p999", o.baseline_distance_p999},
             {"reference_flipped_triangles", o.reference_folds},
+            {"reference_convergence_over_size", o.reference_convergence},
             {"vertices_added", o.vertices_added},
             {"runs", runs_json(o.runs)},
             {"warnings", o.warnings},
@@ -275,13 +290,16 @@ int non_negative_int(const Args& args, const char* option, int fallback) {
 
 int run_battery(const Args& args) {
     args.expect({"out", "seed", "count", "mesh-dir", "mesh", "coarse", "worst", "steps", "tolerance", "reference-steps",
-                 "baseline-steps", "threads", "only", "amplitude", "scheme"},
+                 "baseline-steps", "reference-check", "threads", "only", "amplitude", "scheme"},
                 0, 0);
     const double tolerance = args.get_number("tolerance", 0.0);
     if (!(tolerance >= 0.0 && tolerance <= 0.1)) throw UsageError("--tolerance expects 0 to 0.1");
     if (tolerance > 0.0 && args.has("steps")) throw UsageError("--steps and --tolerance exclude each other");
     const int reference_steps = non_negative_int(args, "reference-steps", 0);
     const int baseline_steps = non_negative_int(args, "baseline-steps", 0);
+    const bool reference_check = args.has("reference-check");
+    if ((baseline_steps > 0 || reference_check) && reference_steps == 0)
+        throw UsageError("--baseline-steps and --reference-check compare with --reference-steps N: give it");
     if (!args.has("out") || args.get("out").empty()) throw UsageError("--out DIR is required");
     const int seed = non_negative_int(args, "seed", 1), count = non_negative_int(args, "count", 30);
     if (count == 0) throw UsageError("--count expects a positive integer");
@@ -314,7 +332,8 @@ int run_battery(const Args& args) {
         if (scheme == "no-repair") b.scene.options.repair_folds = false;  // the flow alone
         outcomes.push_back(run_battery_scene(std::move(b)));
         Outcome& o = outcomes.back();
-        if (reference_steps > 0 && o.error.empty()) compare_with_fixed_steps(o, reference_steps, baseline_steps);
+        if (reference_steps > 0 && o.error.empty())
+            compare_with_fixed_steps(o, reference_steps, baseline_steps, reference_check);
         std::printf(
             "%-48s %7zu v  folds %5zu (reversed %5zu)  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step  "
             "repaired %3zu steps (%.1e D)  refined %d (+%zu v)  %d steps (%d rejected)%s%s%s\n",
@@ -326,6 +345,9 @@ int run_battery(const Args& args) {
                 ? ("  " + std::to_string(reference_steps) + " fixed steps: " + std::to_string(o.reference_distance) +
                    " (99.9 %: " + std::to_string(o.reference_distance_p999) + ") of the size away, " +
                    std::to_string(o.reference_folds) + " folds" +
+                   (o.reference_convergence >= 0.0 ? " (" + std::to_string(2 * reference_steps) + " steps: " +
+                                                         std::to_string(o.reference_convergence) + " from it)"
+                                                   : std::string()) +
                    (o.baseline_distance >= 0.0
                         ? "; " + std::to_string(baseline_steps) + " steps: " + std::to_string(o.baseline_distance) +
                               " (99.9 %: " + std::to_string(o.baseline_distance_p999) + ")"
@@ -341,6 +363,9 @@ int run_battery(const Args& args) {
     double farthest = 0.0, farthest_p999 = 0.0, baseline_farthest = 0.0, baseline_farthest_p999 = 0.0;
     std::size_t within = 0, baseline_within = 0;  // largest distance at most 1e-3 of the size
     std::size_t over_reference_folds = 0, compared = 0;
+    // With --reference-check: scenes whose reference is within 1e-3 of twice its
+    // steps (converged to the accuracy asked for), and of those, the result within 1e-3.
+    std::size_t reference_converged = 0, within_converged = 0;
     std::size_t folded = 0, folds = 0, failed = 0, repaired = 0, reversed_scenes = 0, reversed = 0, refined = 0;
     double outer = 0.0, inner = 0.0, shift = 0.0;
     for (const Outcome& o : outcomes) {
@@ -353,6 +378,8 @@ int run_battery(const Args& args) {
             farthest = std::max(farthest, o.reference_distance);
             farthest_p999 = std::max(farthest_p999, o.reference_distance_p999);
             within += o.reference_distance <= 1e-3;
+            if (o.reference_convergence >= 0.0 && o.reference_convergence <= 1e-3)
+                ++reference_converged, within_converged += o.reference_distance <= 1e-3;
         }
         if (o.baseline_distance >= 0.0) {
             baseline_farthest = std::max(baseline_farthest, o.baseline_distance);
@@ -397,6 +424,8 @@ int run_battery(const Args& args) {
                                     {"reference_distance_over_size_max", farthest},
                                     {"reference_distance_over_size_p999_max", farthest_p999},
                                     {"scenes_within_1e-3", within},
+                                    {"scenes_reference_converged", reference_converged},
+                                    {"scenes_within_1e-3_reference_converged", within_converged},
                                     {"baseline_steps", baseline_steps},
                                     {"baseline_distance_over_size_max", baseline_farthest},
                                     {"baseline_distance_over_size_p999_max", baseline_farthest_p999},
@@ -436,6 +465,11 @@ int run_battery(const Args& args) {
             "%d fixed steps against them: %zu within 1e-3; largest distance %.3g (99.9th percentile at most "
             "%.3g)\n",
             baseline_steps, baseline_within, baseline_farthest, baseline_farthest_p999);
+    if (reference_check)
+        std::printf(
+            "%d fixed steps against them: %zu references within 1e-3 (converged), and %zu of those scenes "
+            "within 1e-3 of their reference\n",
+            2 * reference_steps, reference_converged, within_converged);
     return failed == 0 ? kExitOk : kExitInput;
 }
 

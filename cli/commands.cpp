@@ -104,12 +104,15 @@ const std::vector<Command>& commands() {
          run_bench},
         {"battery", "deform generated scenes nobody tuned and measure folds, volume, rigidity",
          "usage: vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR | --mesh SPEC] [--coarse]\n"
-         "                   [--worst K] [--steps N | --tolerance T [--reference-steps N]] [--threads N]\n"
-         "                   [--only INDEX] [--amplitude A] [--scheme default|paper|no-repair|no-refinement]\n"
+         "                   [--worst K] [--steps N | --tolerance T [--reference-steps N [--baseline-steps M]\n"
+         "                   [--reference-check]]] [--threads N] [--only INDEX] [--amplitude A]\n"
+         "                   [--scheme default|paper|no-repair|no-refinement]\n"
          "\n"
          "--tolerance T takes error-controlled steps instead of 250 fixed ones; with\n"
          "--reference-steps N each scene also runs N fixed steps, and the report gives\n"
-         "the largest distance between the two results and the folds of both.\n"
+         "the largest distance between the two results and the folds of both\n"
+         "(--baseline-steps M: and how far M fixed steps are from the N; --reference-check:\n"
+         "and how far the N are from 2N, whether the reference itself is converged).\n"
          "Generates K scenes (default 30) from seed N (default 1): the built-in meshes at a\n"
          "coarse and a fine resolution (--coarse: coarse only) and every mesh file in\n"
          "--mesh-dir (e.g. assets/cgal), or the one --mesh; each turned, scaled, moved far\n"

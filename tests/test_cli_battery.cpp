@@ -11,8 +11,10 @@
 #include <fstream>
 #include <string>
 
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "mesh/geometry.h"
 #include "scene/battery.h"
 #include "scene/prepared_scene.h"
 #include "scene/scene_run.h"
@@ -87,13 +89,68 @@ TEST_CASE("vfsd battery runs a scene as the engine does, says what it did and ex
     FAIL("the flow alone folded no scene of the battery");
 }
 
+namespace {
+// The result of `b`'s scene in `steps` fixed steps (as `vfsd battery` runs its reference).
+std::vector<Vec3> fixed_steps_result(BatteryScene b, int steps) {
+    b.scene.options.tolerance = 0.0;
+    b.scene.options.steps = steps;
+    PreparedScene prepared = prepare_scene(b.scene, b.mesh);
+    return run_scene(prepared).deformation->positions();
+}
+
+double largest_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double largest = 0.0;
+    for (std::size_t v = 0; v < a.size(); ++v) largest = std::max(largest, glm::length(a[v] - b[v]));
+    return largest;
+}
+}  // namespace
+
+TEST_CASE(
+    "vfsd battery's error-controlled run reports its estimate, and --reference-check the reference's own distance "
+    "from twice its steps",
+    "[battery][cli]") {
+    const std::vector<std::string> sources = battery_mesh_sources({}, false);
+    const BatteryScene b = generate_battery_scene(1, 0, sources);
+    constexpr int kReference = 40;
+    ScratchDir dir;
+    const std::string scene_args = "--seed 1 --coarse --worst 0 --only 0 --tolerance 1e-3 --reference-steps " +
+                                   std::to_string(kReference) + " --out '" + dir.path().string() + "'";
+    REQUIRE(battery(dir, scene_args + " --reference-check") == 0);
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir.file("battery.json")));
+    REQUIRE(report["scenes"].size() == 1);
+    const nlohmann::json& scene = report["scenes"][0];
+    // Every step taken was estimated within the tolerance: the sum is at most steps × tolerance.
+    const double estimated = scene["estimated_error_sum"].get<double>();
+    CHECK(estimated > 0.0);
+    CHECK(estimated <= scene["steps"].get<int>() * 1e-3);
+    // The reference against twice its steps, as computed here.
+    const std::vector<Vec3> reference = fixed_steps_result(b, kReference),
+                            finer = fixed_steps_result(b, 2 * kReference);
+    REQUIRE(reference.size() == finer.size());
+    const double expected = largest_distance(reference, finer) / centred_diameter(b.mesh.mesh.positions);
+    CHECK(expected > 0.0);
+    CHECK(scene["reference_convergence_over_size"].get<double>() == Approx(expected).epsilon(1e-9));
+    const nlohmann::json& summary = report["summary"];
+    CHECK(summary["scenes_reference_converged"] == (expected <= 1e-3 ? 1 : 0));
+    CHECK(test::read_bytes(dir.file("stdout.txt")).find(std::to_string(2 * kReference) + " fixed steps against them") !=
+          std::string::npos);
+    // Without --reference-check the reference's own distance is not measured.
+    ScratchDir plain;
+    REQUIRE(battery(plain, "--seed 1 --coarse --worst 0 --only 0 --tolerance 1e-3 --reference-steps " +
+                               std::to_string(kReference) + " --out '" + plain.path().string() + "'") == 0);
+    const nlohmann::json unchecked = nlohmann::json::parse(std::ifstream(plain.file("battery.json")));
+    CHECK(unchecked["scenes"][0]["reference_convergence_over_size"] == -1.0);
+    CHECK(unchecked["scenes"][0]["reference_distance_over_size"] == scene["reference_distance_over_size"]);
+}
+
 TEST_CASE("vfsd battery rejects bad usage with exit code 2 and says why", "[battery][cli]") {
     ScratchDir dir;
     const std::string out = " --out '" + dir.path().string() + "'";
     for (const std::string& args :
          {std::string("--count 0") + out, std::string("--count 1e12") + out, std::string("--count 2.5") + out,
           std::string("--seed -1") + out, std::string("--amplitude 0") + out, std::string("--scheme none") + out,
-          std::string("--steps 10 --tolerance 1e-3") + out, std::string("--count 2")}) {
+          std::string("--steps 10 --tolerance 1e-3") + out, std::string("--tolerance 1e-3 --reference-check") + out,
+          std::string("--tolerance 1e-3 --baseline-steps 20") + out, std::string("--count 2")}) {
         INFO("vfsd battery " << args);
         CHECK(battery(dir, args) == 2);
         const std::string said = test::read_bytes(dir.file("stderr.txt"));
