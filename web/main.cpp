@@ -51,22 +51,26 @@ EM_JS(char*, vfsd_page_options, (), {
 // The renderer's name, from a context of a canvas of its own (lost again at once):
 // it decides the view canvas's own context attributes, so must come first.
 EM_JS(char*, vfsd_page_probe_renderer, (), {
-    let name = '';
+    let name = "";
     try {
         const gl = document.createElement('canvas').getContext('webgl2');
         if (gl) {
             const info = gl.getExtension('WEBGL_debug_renderer_info');
-            name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER) || '');
+            name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER) || "");
             const lose = gl.getExtension('WEBGL_lose_context');
             if (lose) lose.loseContext();
         }
     } catch (e) {
-        name = '';
+        name = "";
     }
     const size = lengthBytesUTF8(name) + 1;
     const out = _malloc(size);
     stringToUTF8(name, out, size);
     return out;
+});
+// The editor could not start: the page says why.
+EM_JS(void, vfsd_page_failed, (const char* message), {
+    if (Module.vfsdFailed) Module.vfsdFailed(UTF8ToString(message));
 });
 // Returns whether the page wants another frame (it waits on one).
 EM_JS(int, vfsd_page_frame, (const char* overlay), {
@@ -492,7 +496,7 @@ EMSCRIPTEN_KEEPALIVE void vfsd_start() {
     try {
         app = std::make_unique<vfsd::web::App>(options.is_object() ? options : nlohmann::json::object());
     } catch (const std::exception& e) {
-        EM_ASM({ if (Module.vfsdFailed) Module.vfsdFailed(UTF8ToString($0)); }, e.what());
+        vfsd_page_failed(e.what());
         return;
     }
     emscripten_set_webglcontextlost_callback(
