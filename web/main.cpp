@@ -177,6 +177,15 @@ private:
     editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_, multisampled_}; }
     void pause();
     void resume();
+    // Wakes the loop as it goes out of scope (an event's or a command's handler
+    // that threw too): after the edit, so that resume() sees a run it started.
+    struct WakeAfter {
+        App& app;
+        bool wake = true;
+        ~WakeAfter() {
+            if (wake) app.wake();
+        }
+    };
     enum class Timing { animation_frames, timeout, immediate };
     void set_timing(Timing timing);  // how the main loop calls the next frame
     void autosave_due();
@@ -275,8 +284,10 @@ Viewport App::viewport() const {
 }
 
 // kind: 0 press, 1 move, 2 release, 3 leave; another button or Shift pans.
+// The loop is woken after the event, as after a command: a release that started
+// a run is then started by a timeout, not the next animation frame.
 void App::pointer(int kind, double x, double y, int button, bool shift) {
-    wake();  // the hover highlight and the brush follow the pointer
+    const WakeAfter wake_after{*this};  // the hover highlight and the brush follow the pointer
     if (kind == 0) editor_->press(x, y, button != 0 || shift);
     else if (kind == 1) editor_->move(x, y);
     else if (kind == 2) editor_->release();
@@ -284,13 +295,19 @@ void App::pointer(int kind, double x, double y, int button, bool shift) {
 }
 
 // The page's commands (editor/page_api.h), and the context-loss handlers' test hook.
-// Every command but the read-only queries may change what is drawn.
+// Every command but the read-only queries may change what is drawn: the loop is
+// woken after the command (one that failed too), so that resume() sees the run
+// an edit started and starts it by a timeout, not the next animation frame (up
+// to a display frame later).
 json App::command(const json& c) {
     const std::string cmd = c.value("cmd", std::string());
-    if (!editor::page_query(cmd)) wake();
-    if (cmd != "context") return editor::page_command(*editor_, c, page());
-    c.value("lost", false) ? context_lost() : context_restored();
-    return editor::page_state(*editor_, page());
+    if (cmd == "context") {
+        wake();
+        c.value("lost", false) ? context_lost() : context_restored();
+        return editor::page_state(*editor_, page());
+    }
+    const WakeAfter wake_after{*this, !editor::page_query(cmd)};
+    return editor::page_command(*editor_, c, page());
 }
 
 std::size_t App::array(int which) {

@@ -182,12 +182,16 @@ void Editor::advance() {
 }
 
 // Integrates toward the target for about `budget_ms`. The region an edit left to
-// compute takes the frames' budgets first; a new deformation is prepared in a
-// frame of its own; a run starts with one step, which no earlier
-// rate predicts (the first also estimates ∇r at the start); the rest of the frame
-// is filled at the rate measured so far, so no frame takes much longer than the
-// budget plus one step. Steps are the same whatever their grouping. update() ends
-// with the stats' read-back, so the GPU's work is in the time.
+// compute takes the frames' budgets first; a new deformation is prepared part by
+// part (EditorSession::prepare_run), and a frame whose parts so far took under
+// half its budget goes on to the next part or, once none is left, to the steps
+// (where steps run whole): a frame is at most one part longer than half the
+// budget, and a quick preparation costs no frame of its own. A run starts with
+// one step, which no earlier rate predicts (the first also estimates ∇r at the
+// start); the rest of the frame is filled at the rate measured so far, so no
+// frame takes much longer than the budget plus one step. Steps are the same
+// whatever their grouping. update() ends with the stats' read-back, so the GPU's
+// work is in the time.
 void Editor::integrate_for(double budget_ms) {
     waiting_on_gpu_ = false;
     // The GPU's set-up and steps check for errors and read back, and in WebGL
@@ -199,10 +203,13 @@ void Editor::integrate_for(double budget_ms) {
         waiting_on_gpu_ = true;
         return;
     }
-    if (session_->prepare_run(budget_ms)) {
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point start = Clock::now();
+    const auto elapsed = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); };
+    while (session_->prepare_run(budget_ms - elapsed())) {
         moving_ = false;
         step_so_far_ms_ = 0.0;
-        return;
+        if (2.0 * elapsed() >= budget_ms || longest_step_ms_ > options_.split_step_ms) return;
     }
     // Where the longest of the last steps (in this run or the one before) took
     // over split_step_ms, steps run in pieces. The GPU's whole steps wait for the
@@ -211,18 +218,16 @@ void Editor::integrate_for(double budget_ms) {
     // ends its frame, so a GPU that runs a step in a millisecond or two keeps
     // whole steps, and a step in pieces is timed from its first piece to its end.
     if (longest_step_ms_ > options_.split_step_ms) return integrate_in_pieces(budget_ms);
-    using Clock = std::chrono::steady_clock;
-    const Clock::time_point start = Clock::now();
-    const auto elapsed = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); };
+    const double steps_from = elapsed();  // the steps' rate leaves the preparation out
     const auto steps_left = [&](double ms) { return int((budget_ms - ms) / std::max(ms_per_step_, 0.01)); };
-    int chunk = moving_ ? std::clamp(steps_left(0.0), 1, 250) : 1, taken = 0;
+    int chunk = moving_ ? std::clamp(steps_left(steps_from), 1, 250) : 1, taken = 0;
     while (chunk > 0) {
         // The CPU also stops after the step that spends the budget: tries found
         // over the tolerance and slower steps than the rate said (the machine
         // busy) add at most one step to the frame.
         const int done = session_->update(chunk, budget_ms - elapsed());
         taken += done;
-        if (taken > 0) ms_per_step_ = elapsed() / taken;
+        if (taken > 0) ms_per_step_ = (elapsed() - steps_from) / taken;
         if (done > 0) longest_step_ms_ = session_->longest_recent_step_ms();
         if (done < chunk) break;  // at the target, stopped, or the budget spent
         chunk = std::min(steps_left(elapsed()), 250 - taken);

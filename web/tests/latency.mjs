@@ -18,7 +18,8 @@
 // natively by `vfsd bench --latency --scene` (its curve edit or region edit: the
 // mesh open, the region computed for a region edit, the motion built,
 // integrated to t = 1; a curve edit from the rest state the last run kept, as the
-// page's) on one thread and on all, and the ratios printed.
+// page's) on one thread and on all, and the ratios printed. VFSD_LATENCY_EDITS=N
+// makes each kind of edit N times (out and back) and prints the ratios' medians.
 //   VFSD_WEB_SITE=build/web/site VFSD_NATIVE=$PWD/build/release/vfsd node web/tests/latency.mjs [builtin:sphere:6 ...]
 // (scripts/build-web first; docs/web.md has the figures.)
 import { execFileSync } from 'node:child_process';
@@ -44,6 +45,21 @@ function native(scene, threads) {
   const f = line.trim().split(/\s+/);
   return { curve: Number(f[6]), region: Number(f[8]), steps: Number(f[10]) };
 }
+
+// The native figures per scene and thread count, each scene timed once.
+const nativeRuns = new Map();
+function nativeOf(scene, threads) {
+  const key = `${threads} ${JSON.stringify(scene)}`;
+  if (!nativeRuns.has(key)) nativeRuns.set(key, native(scene, threads));
+  return nativeRuns.get(key);
+}
+
+function median(sorted) {
+  const m = sorted.length >> 1;
+  return sorted.length % 2 ? sorted[m] : 0.5 * (sorted[m - 1] + sorted[m]);
+}
+
+const editsAsked = Math.max(1, Number(process.env.VFSD_LATENCY_EDITS || 1));
 
 // VFSD_BROWSER_FRAMES=1: the browser's own frames recorded too. Not by default:
 // a loop of animation frames makes the browser render every frame, on a
@@ -110,12 +126,17 @@ for (const mesh of meshes) {
       const last = c.length - 1;
       const to = (await page.evaluate((p) => window.vfsd.command({ cmd: 'project', points: [p] }),
                                       [c[last][0], c[last][1] + 0.1 * s.diagonal, c[last][2]])).pixels[0];
-      // Each edit returns how long its command took.
+      const back = (await page.evaluate((p) => window.vfsd.command({ cmd: 'project', points: [p] }), c[last])).pixels[0];
+      // Each edit returns how long its command took. With VFSD_LATENCY_EDITS=N,
+      // each kind of edit is made N times: the curve's end dragged out and back
+      // in turn, the seed picked at vertex 100 and 200 in turn.
       const timed = (command) => { const t = performance.now(); window.vfsd.command(command); return performance.now() - t; };
-      const edits = [
-        ['curve edit', await timeEdit(page, `(${timed})({ cmd: 'drag', index: ${last}, to: [${to}] })`)],
-        ['region edit', await timeEdit(page, `(${timed})({ cmd: 'pick', vertex: 100 })`)],
-      ];
+      const edits = [];
+      for (let k = 0; k < editsAsked; ++k)
+        edits.push(['curve edit', await timeEdit(page, `(${timed})({ cmd: 'drag', index: ${last}, to: [${k % 2 ? back : to}] })`)]);
+      for (let k = 0; k < editsAsked; ++k)
+        edits.push(['region edit', await timeEdit(page, `(${timed})({ cmd: 'pick', vertex: ${k % 2 ? 200 : 100} })`)]);
+      const ratios = { 'curve edit': [], 'region edit': [] };
       for (const [name, e] of edits) {
         if (e.stats.backend !== backend) throw new Error(`?backend=${backend} ran on ${e.stats.backend}`);
         let line = `${mesh} page ${backend}, ${name}: t = 1 computed in ${e.computedMs.toFixed(0)} ms, ` +
@@ -126,12 +147,19 @@ for (const mesh of meshes) {
                    `the edit's command ${e.command.toFixed(0)} ms)`;
         if (backend === 'cpu' && process.env.VFSD_NATIVE) {
           const key = name === 'curve edit' ? 'curve' : 'region';
-          const one = native(e.scene, 1), all = native(e.scene, 0);
+          const one = nativeOf(e.scene, 1), all = nativeOf(e.scene, 0);
+          ratios[name].push(e.computedMs / one[key]);
           line += `; native ${one[key].toFixed(0)} ms on one thread, ${all[key].toFixed(0)} ms on all (${all.steps} steps): ` +
                   `page / native ${(e.computedMs / one[key]).toFixed(2)} (one thread), ` +
                   `${(e.computedMs / all[key]).toFixed(2)} (all); seen by the test, ${(e.ms / one[key]).toFixed(2)} (one thread)`;
         }
         console.log(line);
+      }
+      for (const [name, r] of Object.entries(ratios)) {
+        if (r.length < 2) continue;
+        r.sort((a, b) => a - b);
+        console.log(`${mesh} page ${backend}, ${name}: page / native (one thread) median ${median(r).toFixed(2)} ` +
+                    `of ${r.length} edits (${r[0].toFixed(2)}–${r[r.length - 1].toFixed(2)})`);
       }
       const state = await page.evaluate(() => window.vfsd.state());
       console.log(`${mesh} page ${backend}: a drawn frame ${(await drawnFrameMs(page)).toFixed(0)} ms ` +
