@@ -430,6 +430,35 @@ TEST_CASE("Frames: steps longer than the split limit run in pieces over frames, 
     CHECK(packed.frames < whole.frames);
 }
 
+TEST_CASE("Frames: a preparation that leaves most of the frame's budget steps in the same frame", "[editor][frames]") {
+    // Editor::integrate_for goes on from a preparation part to the next, and to
+    // the first step, while the frame has used under half its budget: with a
+    // budget of 10 s the frame that prepares the run also steps, with none it
+    // only prepares, each part in a frame of its own, and both end alike.
+    std::vector<Vec3> ends[2];
+    for (const int k : {0, 1}) {
+        const double budget = k == 0 ? 0.0 : 1e4;
+        INFO("budget " << budget << " ms");
+        test::ScratchDir dir;
+        TestShell shell;
+        EditorOptions options = ShellEditor::options(dir);
+        options.step_budget_ms = options.max_frame_ms = budget;
+        Editor editor(shell, {}, "no GPU in this test", options);
+        editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+        editor.session().set_target_time(1.0);
+        editor.advance();
+        if (budget == 0.0)
+            CHECK(editor.session().time() == 0.0);
+        else
+            CHECK(editor.session().time() > 0.0);
+        int frames = 1;
+        for (; editor.session().moving() && frames < 10000; ++frames) editor.advance();
+        CHECK(editor.session().time() == 1.0);
+        ends[k] = editor.session().positions();
+    }
+    CHECK(ends[0] == ends[1]);
+}
+
 TEST_CASE("Frames: a pick's region is computed over frames the editor stays busy for, as at once", "[editor][frames]") {
     // A budget of 0 gives each frame one iteration of the blend's solve. The
     // pick's frame (the command) computes only which vertices move; the frames
