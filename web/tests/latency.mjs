@@ -23,7 +23,7 @@
 //   VFSD_WEB_SITE=build/web/site VFSD_NATIVE=$PWD/build/release/vfsd node web/tests/latency.mjs [builtin:sphere:6 ...]
 // (scripts/build-web first; docs/web.md has the figures.)
 import { execFileSync } from 'node:child_process';
-import { mkdtempSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { openPage, recordBrowserFrames, recordFrames, stopBrowserFrames } from './harness.mjs';
@@ -36,7 +36,12 @@ function native(scene, threads) {
   writeFileSync(file, JSON.stringify(scene));
   const args = ['bench', '--latency', '--scene', file, '--no-reference', '--repeat', '3'];
   if (threads) args.push('--threads', String(threads));
-  const out = execFileSync(process.env.VFSD_NATIVE, args, { encoding: 'utf8' });
+  let out;
+  try {
+    out = execFileSync(process.env.VFSD_NATIVE, args, { encoding: 'utf8' });
+  } finally {
+    rmSync(dir, { recursive: true, force: true });
+  }
   const line = out.split('\n').find((l) => l.startsWith('edited '));
   if (!line) throw new Error(`vfsd bench --latency printed no result:\n${out}`);
   // edited  VERTICES  REGION ms  CURVE-EDIT ms  REST-KEPT ms  REGION-EDIT ms  STEPS ...
