@@ -393,11 +393,12 @@ TEST_CASE("Frames: steps longer than the split limit run in pieces over frames, 
         std::vector<Vec3> positions;
         int frames = 0, frames_without_time = 0;
     };
-    const auto run = [](double split_step_ms, double budget_ms) {
+    const auto run = [](double split_step_ms, double budget_ms, double split_affine_step_ms = 1e9) {
         test::ScratchDir dir;
         TestShell shell;
         EditorOptions options = ShellEditor::options(dir);
         options.split_step_ms = split_step_ms;
+        options.split_affine_step_ms = split_affine_step_ms;
         options.step_budget_ms = options.max_frame_ms = budget_ms;
         Editor editor(shell, {}, "no GPU in this test", options);
         editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
@@ -428,6 +429,14 @@ TEST_CASE("Frames: steps longer than the split limit run in pieces over frames, 
     CHECK(split.frames_without_time <= whole.frames_without_time + 3 * (steps - 1));
     // A budget that fits many pieces packs them into few frames.
     CHECK(packed.frames < whole.frames);
+    // With only the affine test's steps split (the scene's 250 fixed steps pass
+    // its times at t = 0.2, 0.4, 0.6, 0.8 and 1), those five steps run in
+    // pieces, each with three frames that only prepare (its estimates, its move,
+    // its fold test), and the others whole.
+    const Run affine = run(1e9, 0.0, 0.0);
+    CHECK(affine.positions == whole.positions);
+    CHECK(affine.frames - affine.frames_without_time == steps);
+    CHECK(affine.frames_without_time == whole.frames_without_time + 3 * 5);
 }
 
 TEST_CASE("Frames: a preparation that leaves most of the frame's budget steps in the same frame", "[editor][frames]") {

@@ -324,7 +324,7 @@ TEST_CASE("Frames: the GPU's steps in pieces end frames while the GPU works, the
         test::ScratchDir dir;
         editor::EditorOptions options;
         options.autosave_directory = dir.file("autosave");
-        options.split_step_ms = split_step_ms;
+        options.split_step_ms = options.split_affine_step_ms = split_step_ms;
         editor::Editor editor(
             shell, [](const PreparedScene& p) { return gpu::start_gpu_deformation(p); }, "", options);
         editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);

@@ -113,45 +113,70 @@ std::shared_ptr<const CpuRest> CpuSteps::cpu_rest() const {
 StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     build_keepers();
     StepResult result;
-    const bool prepared = prepared_for(time, h, max_error);
-    const bool moved = prepared && prepared_->moved;
+    std::optional<PreparedTry> piece;
+    if (prepared_for(time, h, max_error)) piece = prepared_;
+    prepared_.reset();
     if (!region_.sphere_tool) {
-        result = prepared ? prepared_->estimate : estimate_try(time, h, max_error);
-        prepared_.reset();
+        result = piece ? piece->estimate : estimate_try(time, h, max_error);
         if (!result.taken) return result;
     }
-    if (!moved) move(time, h, step);
+    if (!(piece && piece->moved)) move(time, h, step);
+    if (region_.sphere_tool) {  // the sphere tool has neither a volume keeper nor a fold repair
+        positions_.swap(next_);
+        input_order_current_ = false;
+        return result;
+    }
+    const FoldTest test = piece && piece->tested ? piece->test : settle_move(time, h, max_error, false);
+    if (test.verdict == FoldTest::land) return {false, result.error, false, test.land_at};
     positions_.swap(next_);
     input_order_current_ = false;
-    if (region_.sphere_tool) return result;  // the sphere tool has neither a volume keeper nor a fold repair
-    // The volume drift is undone after every step, while it is small and smooth
-    // (restoring it every few steps folded thin features); it is then part of
-    // the step's map, and a step back undoes it as well.
-    const double restored = std::abs(rest_->volume.restore(positions_, area_vectors_));
-    volume_restored_ += restored;
-    // Then, at the fold repair's times, the repair, which sees what the keeper's
-    // move folded too (a needle's corner pushed across its base).
-    if (!FoldRepair::repair_due(time, time + h)) return result;
+    volume_restored_ += test.restored;
+    if (test.verdict == FoldTest::repair) repair_folds(time, h, max_error, test.measured, result);
+    return result;
+}
+
+// What follows the move in next_, before the step is taken: the volume drift
+// undone after every step, while it is small and smooth (restoring it every few
+// steps folded thin features; it is then part of the step's map, and a step back
+// undoes it as well), and at the fold repair's times the test the repair acts
+// on, which sees what the keeper's move folded too (a needle's corner pushed
+// across its base). An error-controlled step that passed the repair's time and
+// folded is tried again to end there (land): nothing moves. One that did not
+// fold needs no repair (clean). With `test_all`, a step that ends where the
+// repair acts is tested too, and needs it only where a triangle is short of the
+// lift's target (repair() then does nothing else: the same bits), and the
+// repair's lift starts from that test's measures; without, it is left to
+// repair()'s own test.
+CpuSteps::FoldTest CpuSteps::settle_move(double time, double h, double max_error, bool test_all) {
+    FoldTest test;
+    test.restored = std::abs(rest_->volume.restore(next_, area_vectors_));
+    if (!FoldRepair::repair_due(time, time + h)) return test;
     const bool affine_test = FoldRepair::affine_test_due(time, time + h);
-    // An error-controlled step that passed the repair's time and folded is
-    // tried again to end there: a rejected try, it leaves the positions as
-    // they were. One that did not fold needs no repair.
-    const double land_at = std::isfinite(max_error) ? FoldRepair::repair_time_within(time, time + h) : -1.0;
-    if (land_at > 0.0) {
-        const bool affine_at_land = FoldRepair::affine_test_due(time, land_at);
-        if (fold_repair_.count_folds(positions_, rest_->rings, affine_at_land) > 0) {
-            positions_.swap(next_);
-            volume_restored_ -= restored;
-            return {false, result.error, false, land_at};
+    test.land_at = std::isfinite(max_error) ? FoldRepair::repair_time_within(time, time + h) : -1.0;
+    if (test.land_at > 0.0) {
+        const bool affine_at_land = FoldRepair::affine_test_due(time, test.land_at);
+        if (fold_repair_.count_folds(next_, rest_->rings, affine_at_land) > 0) {
+            test.verdict = FoldTest::land;
+            return test;
         }
-        if (affine_at_land || !affine_test) return result;  // tested as the repair would: nothing folded
+        if (affine_at_land || !affine_test) return test;  // tested as the repair would: nothing folded
     }
-    // A repair moves vertices up to an edge: the keeper's ∂V/∂x from the step's
-    // midpoint no longer describes their rings, so it takes them where they
-    // are, before each of its Newton steps; what those fold in turn is repaired
-    // again, up to kRepairCycles times.
+    test.verdict = FoldTest::repair;
+    if (!test_all) return test;
+    test.measured = fold_repair_.count_folds(next_, rest_->rings, affine_test, true) > 0;
+    if (!test.measured) test.verdict = FoldTest::clean;
+    return test;
+}
+
+// The fold repair after a step that passed its time (`measured`: its test's
+// measures kept, settle_move). A repair moves vertices up
+// to an edge: the keeper's ∂V/∂x from the step's midpoint no longer describes
+// their rings, so it takes them where they are, before each of its Newton steps;
+// what those fold in turn is repaired again, up to kRepairCycles times.
+void CpuSteps::repair_folds(double time, double h, double max_error, bool measured, StepResult& result) {
+    const bool affine_test = FoldRepair::affine_test_due(time, time + h);
     for (int cycle = 0; cycle < FoldRepair::kRepairCycles; ++cycle) {
-        fold_repair_.repair(positions_, rest_->rings, affine_test && cycle == 0, cycle == 0);
+        fold_repair_.repair(positions_, rest_->rings, affine_test && cycle == 0, cycle == 0, measured && cycle == 0);
         if (cycle == 0 && fold_repair_.acted() && std::isfinite(max_error))
             result.land_at = FoldRepair::next_repair_time(time + h);
         if (!fold_repair_.acted() || !rest_->volume.active()) break;
@@ -160,7 +185,6 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
             volume_restored_ += std::abs(rest_->volume.restore(positions_, area_vectors_));
         }
     }
-    return result;
 }
 
 // The step's RK4 move from positions_ into next_, with the ∇r and gauge estimate_try found.
@@ -208,22 +232,37 @@ StepResult CpuSteps::estimate_try(double time, double h, double max_error) {
 }
 
 // step()'s pieces ahead of it, one a call, so that a caller can give each a
-// frame of its own: the estimates (estimate_try), then the move (into next_);
-// the step() from `time` by `h` then does the rest. A prepared try that no
-// step() takes leaves ∇r and the gauge where a rejected one would.
+// frame of its own: the estimates (estimate_try), then the move (into next_),
+// and where the step passes a fold repair's time, the volume keeper's move and
+// the fold test (settle_move, in next_; a try that lands on the repair's time
+// ends there): with the move where the neighbour test alone is due (a few ms on
+// 163k vertices), in a piece of its own where the affine test is too (tens of
+// ms). The step() from `time` by `h` then does the rest. A prepared try that no
+// step() takes leaves ∇r and the gauge where a rejected one would, and the
+// positions as they were.
 std::optional<StepResult> CpuSteps::prepare_step(double time, double h, int step, double max_error) {
     if (region_.sphere_tool || !rest_) return std::nullopt;
     build_keepers();
     if (!prepared_for(time, h, max_error)) {
-        prepared_ = PreparedTry{time, h, max_error, estimate_try(time, h, max_error)};
+        prepared_ = PreparedTry{time, h, max_error, estimate_try(time, h, max_error), false, false, {}};
         const StepResult estimate = prepared_->estimate;
         if (!estimate.taken) prepared_.reset();  // over: no step() follows
         return estimate;
     }
-    if (prepared_->moved) return std::nullopt;
-    move(time, h, step);
-    prepared_->moved = true;
-    return prepared_->estimate;
+    const bool test_due = fold_repair_.active() && FoldRepair::repair_due(time, time + h);
+    if (!prepared_->moved) {
+        move(time, h, step);
+        prepared_->moved = true;
+        if (!test_due || FoldRepair::affine_test_due(time, time + h)) return prepared_->estimate;
+    } else if (prepared_->tested || !test_due) {
+        return std::nullopt;
+    }
+    prepared_->test = settle_move(time, h, max_error, true);
+    prepared_->tested = true;
+    if (prepared_->test.verdict != FoldTest::land) return prepared_->estimate;
+    const StepResult landing{false, prepared_->estimate.error, false, prepared_->test.land_at};
+    prepared_.reset();  // tried again to end on the repair's time: no step() follows
+    return landing;
 }
 
 bool CpuSteps::prepared_for(double time, double h, double max_error) const {

@@ -88,6 +88,15 @@ private:
     void estimate_at_start(double time);
     StepResult estimate_try(double time, double h, double max_error);
     void move(double time, double h, int step);
+    // What settle_move found: whether the step is taken and the fold repair acts.
+    struct FoldTest {
+        enum Verdict { clean, land, repair } verdict = clean;
+        double land_at = -1.0;  // land: the repair's time the step is tried again to end on
+        double restored = 0.0;  // |the volume drift| the keeper undid in next_
+        bool measured = false;  // repair: the test's measures kept for the repair (FoldRepair::count_folds)
+    };
+    FoldTest settle_move(double time, double h, double max_error, bool test_all);
+    void repair_folds(double time, double h, double max_error, bool measured, StepResult& result);
     bool prepared_for(double time, double h, double max_error) const;
     void start_from_rest();
     double estimate_error(const MotionSample& middle, double h, double span) const;
@@ -124,12 +133,14 @@ private:
     std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
     FoldRepair fold_repair_;
     double volume_restored_ = 0.0;  // Σ |drift undone|
-    // The try prepare_step() estimated (and moved into next_), for the step()
-    // from the same time by the same h.
+    // The try prepare_step() estimated (and moved into next_, and tested there),
+    // for the step() from the same time by the same h.
     struct PreparedTry {
         double time, h, max_error;
         StepResult estimate;
         bool moved = false;
+        bool tested = false;
+        FoldTest test;
     };
     std::optional<PreparedTry> prepared_;
 };

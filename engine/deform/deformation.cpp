@@ -7,6 +7,7 @@
 #include <string>
 
 #include "deform/cpu_steps.h"
+#include "deform/fold_repair.h"
 
 namespace vfsd {
 
@@ -147,7 +148,14 @@ void Deformation::note_step(double next, bool controlled, const StepResult& resu
     just_rejected_ = false;
 }
 
-int Deformation::advance(double target, int max_steps, double budget_ms) {
+bool Deformation::next_step_tests_affine(double target) const {
+    target = std::clamp(target, 0.0, 1.0);
+    if (time_ == target || !options_.repair_folds) return false;
+    bool controlled = false;
+    return FoldRepair::affine_test_due(time_, next_time(target, controlled));
+}
+
+int Deformation::advance(double target, int max_steps, double budget_ms, bool stop_before_affine_test) {
     target = std::clamp(target, 0.0, 1.0);
     using Clock = std::chrono::steady_clock;
     const auto milliseconds = [](Clock::time_point since) {
@@ -157,6 +165,7 @@ int Deformation::advance(double target, int max_steps, double budget_ms) {
     auto step_start = start;
     int taken = 0;
     while (taken < max_steps && time_ != target) {
+        if (taken > 0 && stop_before_affine_test && next_step_tests_affine(target)) break;
         bool controlled = false;
         const double next = next_time(target, controlled);
         const StepResult result = backend_->step(time_, next - time_, steps_taken_ + 1, max_error(next, controlled));

@@ -174,7 +174,9 @@ public:
     // Does now the next piece of the step() from `time` by `h` with `max_error`
     // (the `step`-th), so that a long step can be spread over frames (the CPU:
     // first ∇r and the gauge at its middle with the error estimate, then the
-    // move; the volume keeper and the fold repair are left to step(); the GPU:
+    // move, then where the step passes a fold repair's time the volume keeper
+    // and the fold test, which may end the try to land on that time; the repair
+    // is left to step(); the GPU:
     // the same passes, each piece's issued with a fence, and a piece whose fence
     // has not passed returns `waiting` and does nothing). Returns that try's result
     // so far, or nothing when no piece is left before step(). A try it finds
@@ -218,7 +220,15 @@ public:
     // and the same steps however the calls divide them. Throws NumericalError
     // naming the step and vertex if a position becomes non-finite (on the CPU the
     // positions before that step are kept; the GPU's are checked when read).
-    int advance(double target, int max_steps = 1 << 30, double budget_ms = std::numeric_limits<double>::infinity());
+    // With `stop_before_affine_test`, it also stops before a step (not the
+    // first) that passes a time of the fold repair's affine test, the longest of
+    // steps (next_step_tests_affine), so that a caller can run that one in pieces.
+    int advance(double target, int max_steps = 1 << 30, double budget_ms = std::numeric_limits<double>::infinity(),
+                bool stop_before_affine_test = false);
+    // Whether the next step toward `target` passes a time of the fold repair's
+    // affine test (FoldRepair::affine_test_due), where a step takes about two
+    // to three times as long as others.
+    bool next_step_tests_affine(double target) const;
     // StepBackend::prepare_first_step.
     bool prepare_first_step() { return backend_->prepare_first_step(); }
     // The next piece of the next step toward `target` (StepBackend::prepare_step;

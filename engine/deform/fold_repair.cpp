@@ -438,17 +438,34 @@ std::vector<std::uint32_t> FoldRepair::with_affine(const std::vector<std::uint32
     return both;
 }
 
-std::size_t FoldRepair::count_folds(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test) {
+std::size_t FoldRepair::count_folds(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
+                                    bool keep_measures) {
     if (!active()) return 0;
-    take_normals(x);
-    std::vector<double> by_fit(at_rest_->check.size(), std::numeric_limits<double>::infinity());
-    if (affine_test) test_affine(x, rings, nullptr, &by_fit);
+    measure_lift(x, rings, affine_test);
     std::vector<std::uint8_t> short_of(at_rest_->check.size());
     parallel_for(short_of.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) short_of[i] = short_of_target(i, neighbour_lift(i, x), by_fit[i]);
+        for (std::size_t i = first; i < last; ++i)
+            short_of[i] = short_of_target(i, lift_by_neighbours_[i],
+                                          affine_test ? lift_by_fit_[i] : std::numeric_limits<double>::infinity());
     });
-    std::vector<StarSums>().swap(sums_);  // held only while a repair runs
+    if (!keep_measures) std::vector<StarSums>().swap(sums_);  // held only while a repair runs
     return std::size_t(std::count(short_of.begin(), short_of.end(), std::uint8_t(1)));
+}
+
+// The lift's measures of every check entry in x (neighbour_lift into
+// lift_by_neighbours_, and with `affine_test` fit_lift into lift_by_fit_), with
+// the neighbour test's flags and the affine test's sums and flags.
+void FoldRepair::measure_lift(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test) {
+    const std::size_t n = at_rest_->check.size();
+    take_normals(x);
+    lift_by_neighbours_.resize(n);
+    flags_.resize(n);
+    parallel_for(n, [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i)
+            lift_by_neighbours_[i] = neighbour_lift(i, x), flags_[i] = faces_against_neighbours(i);
+    });
+    lift_by_fit_.assign(affine_test ? n : 0, std::numeric_limits<double>::infinity());
+    if (affine_test) test_affine(x, rings, nullptr, &lift_by_fit_);
 }
 
 // The at_rest_->check entries (positions in at_rest_->check) whose triangle faces against the mean
@@ -938,25 +955,17 @@ void FoldRepair::add_lift_moves(std::uint32_t i, const std::vector<Vec3>& x, boo
 // vertices. Returns the vertices it moved, each with where it started.
 std::vector<std::pair<std::uint32_t, Vec3>> FoldRepair::lift(std::vector<Vec3>& x, const VertexRings& rings,
                                                              bool affine_test,
-                                                             const std::vector<std::uint32_t>* moved_since) {
+                                                             const std::vector<std::uint32_t>* moved_since,
+                                                             bool measured) {
     const AtRest& rest = *at_rest_;
     const std::size_t n = rest.check.size();
     std::vector<double>& by_neighbours = lift_by_neighbours_;
     std::vector<double>& by_fit = lift_by_fit_;
     entry_mark_.resize(n, 0);  // refresh_lift leaves it all 0
-    if (moved_since) {
+    if (moved_since)
         refresh_lift(x, rings, *moved_since, affine_test);
-    } else {
-        take_normals(x);
-        by_neighbours.resize(n);
-        flags_.resize(n);
-        parallel_for(n, [&](std::size_t first, std::size_t last) {
-            for (std::size_t i = first; i < last; ++i)
-                by_neighbours[i] = neighbour_lift(i, x), flags_[i] = faces_against_neighbours(i);
-        });
-        by_fit.assign(affine_test ? n : 0, std::numeric_limits<double>::infinity());
-        if (affine_test) test_affine(x, rings, nullptr, &by_fit);
-    }
+    else if (!measured)
+        measure_lift(x, rings, affine_test);
     const auto is_low = [&](std::size_t i) {
         return short_of_target(i, by_neighbours[i], affine_test ? by_fit[i] : std::numeric_limits<double>::infinity());
     };
@@ -1021,12 +1030,13 @@ void FoldRepair::settle(const std::vector<std::pair<std::uint32_t, Vec3>>& lifte
     refit_rings(vertices, x, rings, &weights);
 }
 
-std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, bool affine_test, bool new_step) {
+std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, bool affine_test, bool new_step,
+                               bool measured) {
     acted_ = false;
     if (!active()) return 0;
     // Step 0: the lift, the lifted vertices' settling, and the lift again for
     // what settling left short.
-    const std::vector<std::pair<std::uint32_t, Vec3>> lifted = lift(x, rings, affine_test);
+    const std::vector<std::pair<std::uint32_t, Vec3>> lifted = lift(x, rings, affine_test, nullptr, measured);
     if (!lifted.empty()) {
         settle(lifted, x, rings);
         std::vector<std::uint32_t> settled;

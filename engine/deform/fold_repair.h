@@ -149,14 +149,20 @@ public:
     static double next_repair_time(double time);
     // How many checked triangles in `positions` are short of the lift's target
     // (with `affine_test`, of either), every folded one among them: what
-    // repair() would act on.
-    std::size_t count_folds(const std::vector<Vec3>& positions, const VertexRings& rings, bool affine_test);
+    // repair() would act on (none: repair() would leave them as they are).
+    // `keep_measures`: for a repair() of the same positions with the same
+    // `affine_test` that follows with `measured` (its lift then starts from them).
+    std::size_t count_folds(const std::vector<Vec3>& positions, const VertexRings& rings, bool affine_test,
+                            bool keep_measures = false);
     // Repairs the folds of `positions` (the same order as at construction) as
     // described above, by the neighbour test and, when `affine_test`, the affine
     // one; returns the number of triangles still folded after the last round.
     // `new_step`: false when it repairs the same step again (after the volume
     // keeper's moves), which stats() then does not count as another step.
-    std::size_t repair(std::vector<Vec3>& positions, const VertexRings& rings, bool affine_test, bool new_step = true);
+    // `measured`: count_folds(positions, rings, affine_test, true) was the last
+    // call, on these positions; the same bits as without, one test fewer.
+    std::size_t repair(std::vector<Vec3>& positions, const VertexRings& rings, bool affine_test, bool new_step = true,
+                       bool measured = false);
     // Whether the last repair() found folds and acted on them.
     bool acted() const { return acted_; }
     // Repairs per step at most: after each, the volume keeper's Newton steps can
@@ -191,7 +197,9 @@ private:
     std::vector<std::uint32_t> folded_as_lifted(bool affine_test, std::size_t& neighbour);
     std::vector<std::uint32_t> with_affine(const std::vector<std::uint32_t>& by_neighbours) const;
     std::vector<std::pair<std::uint32_t, Vec3>> lift(std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
-                                                     const std::vector<std::uint32_t>* moved_since = nullptr);
+                                                     const std::vector<std::uint32_t>* moved_since = nullptr,
+                                                     bool measured = false);
+    void measure_lift(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test);
     void add_lift_moves(std::uint32_t entry, const std::vector<Vec3>& x, bool affine_test,
                         std::unordered_map<std::uint32_t, Vec3>& sum) const;
     std::vector<std::uint32_t> refresh_lift(const std::vector<Vec3>& x, const VertexRings& rings,

@@ -218,6 +218,10 @@ void Editor::integrate_for(double budget_ms) {
     // ends its frame, so a GPU that runs a step in a millisecond or two keeps
     // whole steps, and a step in pieces is timed from its first piece to its end.
     if (longest_step_ms_ > options_.split_step_ms) return integrate_in_pieces(budget_ms);
+    // A step through a time of the affine test, were it whole, could take a
+    // frame past 50 ms where the other steps take a third of split_step_ms.
+    const bool split_affine = longest_step_ms_ > options_.split_affine_step_ms;
+    if (split_affine && session_->next_step_tests_affine()) return integrate_in_pieces(budget_ms - elapsed());
     const double steps_from = elapsed();  // the steps' rate leaves the preparation out
     const auto steps_left = [&](double ms) { return int((budget_ms - ms) / std::max(ms_per_step_, 0.01)); };
     int chunk = moving_ ? std::clamp(steps_left(steps_from), 1, 250) : 1, taken = 0;
@@ -225,19 +229,26 @@ void Editor::integrate_for(double budget_ms) {
         // The CPU also stops after the step that spends the budget: tries found
         // over the tolerance and slower steps than the rate said (the machine
         // busy) add at most one step to the frame.
-        const int done = session_->update(chunk, budget_ms - elapsed());
+        const int done = session_->update(chunk, budget_ms - elapsed(), split_affine);
         taken += done;
         if (taken > 0) ms_per_step_ = (elapsed() - steps_from) / taken;
         if (done > 0) longest_step_ms_ = session_->longest_recent_step_ms();
-        if (done < chunk) break;  // at the target, stopped, or the budget spent
+        if (done < chunk) break;  // at the target, stopped, before the affine test, or the budget spent
         chunk = std::min(steps_left(elapsed()), 250 - taken);
     }
     moving_ = taken > 0;
+    // Stopped before a step through the affine test's time: the frame goes on
+    // with that step's pieces while its budget lasts.
+    if (split_affine && elapsed() < budget_ms && session_->moving() && session_->next_step_tests_affine()) {
+        integrate_in_pieces(budget_ms - elapsed());
+        moving_ = moving_ || taken > 0;
+    }
 }
 
 // Long steps in pieces (Deformation::prepare_step: ∇r and the gauge at the
-// step's middle, then the move; the step itself ends it with the volume keeper
-// and the fold repair), as many in a frame as leave room for the longest recent
+// step's middle, then the move, then at a fold repair's time the volume keeper
+// and the fold test; the step itself ends it with the volume keeper or the
+// repair), as many in a frame as leave room for the longest recent
 // piece within the budget, at least one: no frame takes much longer than the
 // budget plus one piece. The steps are the same as whole ones. On the GPU a
 // piece issues passes; the frame ends where the GPU has not finished the last.

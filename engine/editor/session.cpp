@@ -704,12 +704,12 @@ void EditorSession::ensure_deformation() {
     stats_.backend_reason = stats_.backend == "gpu" ? "" : reason;
 }
 
-int EditorSession::update(int max_steps, double budget_ms) {
+int EditorSession::update(int max_steps, double budget_ms, bool stop_before_affine_test) {
     if (time() == target_time()) return 0;
     int taken = 0;
     run_step([&] {
         ensure_deformation();
-        taken = deformation_->advance(target_time(), max_steps, budget_ms);
+        taken = deformation_->advance(target_time(), max_steps, budget_ms, stop_before_affine_test);
         if (!moving()) held_.reset();  // the edit's result is ready
         if (taken > 0) {
             changed(positions_moved);

@@ -170,9 +170,12 @@ public:
     void pause();  // target = current time
     void reset();  // back to t = 0 at once
     // Takes at most `max_steps` steps toward the target, on the CPU stopping
-    // after the first that ends `budget_ms` or more after the call
-    // (Deformation::advance); returns how many.
-    int update(int max_steps, double budget_ms = kToTheEnd);
+    // after the first that ends `budget_ms` or more after the call, and with
+    // `stop_before_affine_test` before a later step that runs the fold repair's
+    // affine test (Deformation::advance); returns how many.
+    int update(int max_steps, double budget_ms = kToTheEnd, bool stop_before_affine_test = false);
+    // Whether the next step runs the fold repair's affine test (Deformation::next_step_tests_affine).
+    bool next_step_tests_affine() const { return deformation_ && deformation_->next_step_tests_affine(target_time()); }
     // Prepares what a run toward the target needs before its first step, one part
     // per call, so that an editor can give each a frame of its own: the region
     // an edit left to compute (for about `budget_ms`, while region_pending(),
