@@ -19,7 +19,8 @@
 // mesh open, the region computed for a region edit, the motion built,
 // integrated to t = 1; a curve edit from the rest state the last run kept, as the
 // page's) on one thread and on all, and the ratios printed. VFSD_LATENCY_EDITS=N
-// makes each kind of edit N times (out and back) and prints the ratios' medians.
+// makes each kind of edit N times (out and back) and prints the ratios' medians;
+// VFSD_LATENCY_BACKENDS=cpu (or gpu) times that path alone.
 //   VFSD_WEB_SITE=build/web/site VFSD_NATIVE=$PWD/build/release/vfsd node web/tests/latency.mjs [builtin:sphere:6 ...]
 // (scripts/build-web first; docs/web.md has the figures.)
 import { execFileSync } from 'node:child_process';
@@ -70,6 +71,8 @@ const editsAsked = Math.max(1, Number(process.env.VFSD_LATENCY_EDITS || 1));
 // a loop of animation frames makes the browser render every frame, on a
 // software renderer at a cost to the run (docs/web.md, "Browser frames").
 const browserFramesAsked = process.env.VFSD_BROWSER_FRAMES === '1';
+const backends = (process.env.VFSD_LATENCY_BACKENDS || 'cpu,gpu').split(',');
+for (const b of backends) if (b !== 'cpu' && b !== 'gpu') throw new Error(`VFSD_LATENCY_BACKENDS: ${b} is neither cpu nor gpu`);
 
 // Runs `edit` on the page and waits until the deformation is back at t = 1.
 async function timeEdit(page, edit, argument) {
@@ -119,7 +122,7 @@ async function drawnFrameMs(page) {
 
 const meshes = process.argv.slice(2).length ? process.argv.slice(2) : ['builtin:sphere:6'];
 for (const mesh of meshes) {
-  for (const backend of ['cpu', 'gpu']) {
+  for (const backend of backends) {
     const { page, close } = await openPage(`?backend=${backend}`);
     try {
       await page.evaluate((m) => window.vfsd.open(m), mesh);
