@@ -441,7 +441,7 @@ std::vector<std::uint32_t> FoldRepair::with_affine(const std::vector<std::uint32
 std::size_t FoldRepair::count_folds(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
                                     bool keep_measures) {
     if (!active()) return 0;
-    measure_lift(x, rings, affine_test);
+    measure_lift(x, rings, affine_test, keep_measures);
     std::vector<std::uint8_t> short_of(at_rest_->check.size());
     parallel_for(short_of.size(), [&](std::size_t first, std::size_t last) {
         for (std::size_t i = first; i < last; ++i)
@@ -454,15 +454,18 @@ std::size_t FoldRepair::count_folds(const std::vector<Vec3>& x, const VertexRing
 
 // The lift's measures of every check entry in x (neighbour_lift into
 // lift_by_neighbours_, and with `affine_test` fit_lift into lift_by_fit_), with
-// the neighbour test's flags and the affine test's sums and flags.
-void FoldRepair::measure_lift(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test) {
+// the affine test's sums and flags, and with `flags` the neighbour test's (what
+// a repair needs besides).
+void FoldRepair::measure_lift(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test, bool flags) {
     const std::size_t n = at_rest_->check.size();
     take_normals(x);
     lift_by_neighbours_.resize(n);
-    flags_.resize(n);
+    if (flags) flags_.resize(n);
     parallel_for(n, [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i)
-            lift_by_neighbours_[i] = neighbour_lift(i, x), flags_[i] = faces_against_neighbours(i);
+        for (std::size_t i = first; i < last; ++i) {
+            lift_by_neighbours_[i] = neighbour_lift(i, x);
+            if (flags) flags_[i] = faces_against_neighbours(i);
+        }
     });
     lift_by_fit_.assign(affine_test ? n : 0, std::numeric_limits<double>::infinity());
     if (affine_test) test_affine(x, rings, nullptr, &lift_by_fit_);
@@ -965,7 +968,7 @@ std::vector<std::pair<std::uint32_t, Vec3>> FoldRepair::lift(std::vector<Vec3>& 
     if (moved_since)
         refresh_lift(x, rings, *moved_since, affine_test);
     else if (!measured)
-        measure_lift(x, rings, affine_test);
+        measure_lift(x, rings, affine_test, true);
     const auto is_low = [&](std::size_t i) {
         return short_of_target(i, by_neighbours[i], affine_test ? by_fit[i] : std::numeric_limits<double>::infinity());
     };

@@ -199,7 +199,7 @@ private:
     std::vector<std::pair<std::uint32_t, Vec3>> lift(std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
                                                      const std::vector<std::uint32_t>* moved_since = nullptr,
                                                      bool measured = false);
-    void measure_lift(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test);
+    void measure_lift(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test, bool flags);
     void add_lift_moves(std::uint32_t entry, const std::vector<Vec3>& x, bool affine_test,
                         std::unordered_map<std::uint32_t, Vec3>& sum) const;
     std::vector<std::uint32_t> refresh_lift(const std::vector<Vec3>& x, const VertexRings& rings,
