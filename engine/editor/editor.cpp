@@ -218,8 +218,9 @@ void Editor::integrate_for(double budget_ms) {
     // ends its frame, so a GPU that runs a step in a millisecond or two keeps
     // whole steps, and a step in pieces is timed from its first piece to its end.
     if (longest_step_ms_ > options_.split_step_ms) return integrate_in_pieces(budget_ms);
-    // A step through a time of the affine test, were it whole, could take a
-    // frame past 50 ms where the other steps take a third of split_step_ms.
+    // A step through a time of the affine test, two to three times as long as
+    // the others, could take a frame past 50 ms where they take over
+    // split_affine_step_ms: it runs in pieces.
     const bool split_affine = longest_step_ms_ > options_.split_affine_step_ms;
     if (split_affine && session_->next_step_tests_affine()) return integrate_in_pieces(budget_ms - elapsed());
     const double steps_from = elapsed();  // the steps' rate leaves the preparation out
