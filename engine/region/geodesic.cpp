@@ -140,13 +140,73 @@ double triangle_update(const Vec3& c, const Vec3& a, double da, const Vec3& b, d
 // the same mesh turned or mirrored would get other distances. Here distances
 // within a quantum (1e-9 of the mean edge length) count as equal and the lower
 // vertex index goes first: an order that does not depend on where the mesh lies.
-struct MarchEntry {
+struct MarchKey {
     double quantised;  // distance / quantum, rounded down
-    double distance;
     std::uint32_t vertex;
-    bool operator>(const MarchEntry& o) const {
-        return quantised != o.quantised ? quantised > o.quantised : vertex > o.vertex;
+    bool operator<(const MarchKey& o) const {
+        return quantised != o.quantised ? quantised < o.quantised : vertex < o.vertex;
     }
+};
+
+// The march's front: a binary min-heap of MarchKeys holding each vertex at most
+// once, its key lowered in place when its distance falls (a heap that pushed
+// each lowered distance again held several entries per vertex, most of them
+// stale). Vertices leave it in the same order: each has one live key.
+class MarchFront {
+public:
+    explicit MarchFront(std::size_t vertex_count) : slot_(vertex_count, kAbsent) {}
+    bool empty() const { return heap_.empty(); }
+    // Adds v with this key, or lowers v's key to it.
+    void lower(const MarchKey& key) {
+        std::uint32_t i = slot_[key.vertex];
+        if (i == kAbsent) {
+            i = static_cast<std::uint32_t>(heap_.size());
+            heap_.push_back(key);
+        } else {
+            heap_[i] = key;
+        }
+        rise(i);
+    }
+    MarchKey pop() {
+        const MarchKey top = heap_.front();
+        slot_[top.vertex] = kAbsent;
+        const MarchKey last = heap_.back();
+        heap_.pop_back();
+        if (!heap_.empty()) {
+            heap_.front() = last;
+            sink(0);
+        }
+        return top;
+    }
+
+private:
+    static constexpr std::uint32_t kAbsent = 0xffffffffu;
+    void place(std::uint32_t i, const MarchKey& key) { heap_[i] = key, slot_[key.vertex] = i; }
+    void rise(std::uint32_t i) {
+        const MarchKey key = heap_[i];
+        while (i > 0) {
+            const std::uint32_t parent = (i - 1) / 2;
+            if (!(key < heap_[parent])) break;
+            place(i, heap_[parent]);
+            i = parent;
+        }
+        place(i, key);
+    }
+    void sink(std::uint32_t i) {
+        const MarchKey key = heap_[i];
+        const auto n = static_cast<std::uint32_t>(heap_.size());
+        for (;;) {
+            std::uint32_t child = 2 * i + 1;
+            if (child >= n) break;
+            if (child + 1 < n && heap_[child + 1] < heap_[child]) ++child;
+            if (!(heap_[child] < key)) break;
+            place(i, heap_[child]);
+            i = child;
+        }
+        place(i, key);
+    }
+    std::vector<MarchKey> heap_;
+    std::vector<std::uint32_t> slot_;  // per vertex: its place in heap_, or kAbsent
 };
 
 double mean_edge_length(const std::vector<Vec3>& p, const VertexRings& rings) {
@@ -159,35 +219,33 @@ double mean_edge_length(const std::vector<Vec3>& p, const VertexRings& rings) {
 void run_fast_marching(const std::vector<Vec3>& p, const VertexRings& rings, double max_distance,
                        std::vector<double>& dist) {
     const double quantum = 1e-9 * mean_edge_length(p, rings);
-    const auto entry = [&](double d, std::uint32_t v) {
-        return MarchEntry{quantum > 0.0 ? std::floor(d / quantum) : d, d, v};
+    const auto key = [&](double d, std::uint32_t v) {
+        return MarchKey{quantum > 0.0 ? std::floor(d / quantum) : d, v};
     };
     std::vector<std::uint8_t> accepted(dist.size(), 0);
-    std::priority_queue<MarchEntry, std::vector<MarchEntry>, std::greater<MarchEntry>> heap;
+    MarchFront front(dist.size());
     for (std::uint32_t v = 0; v < dist.size(); ++v)
         if (dist[v] < kInf) {
             // A source inside a region of sources (itself and its whole ring at 0)
             // updates no vertex and no update reaches it: accepted at once, it
-            // stays out of the heap (a painted region's thousands of vertices).
+            // stays out of the front (a painted region's thousands of vertices).
             bool inside = dist[v] == 0.0 && rings.valence(v) > 0;
             for (std::uint32_t i = rings.begin(v); i < rings.end(v) && inside; ++i)
                 inside = dist[rings.neighbours[i]] == 0.0;
             if (inside)
                 accepted[v] = 1;
             else
-                heap.push(entry(dist[v], v));
+                front.lower(key(dist[v], v));
         }
     const auto relax = [&](std::uint32_t v, double d) {
         if (d < dist[v]) {
             dist[v] = d;
-            heap.push(entry(d, v));
+            front.lower(key(d, v));
         }
     };
-    while (!heap.empty()) {
-        const MarchEntry top = heap.top();
-        heap.pop();
-        const std::uint32_t v = top.vertex;
-        if (accepted[v] || top.distance > dist[v] || top.distance > max_distance) continue;
+    while (!front.empty()) {
+        const std::uint32_t v = front.pop().vertex;
+        if (dist[v] > max_distance) continue;  // left out; a shorter update may bring it back
         accepted[v] = 1;
         for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
             const std::uint32_t a = rings.neighbours[i];
@@ -229,30 +287,37 @@ bool is_straight_boundary(const std::vector<Vec3>& p, const VertexRings& rings, 
 void smooth_distances(const std::vector<Vec3>& p, const VertexRings& rings, const std::vector<double>& seeds,
                       int iterations, std::vector<double>& dist) {
     if (iterations == 0) return;
-    // Per ring entry, the length of its edge where the kernel weighs it, else 0:
-    // taken once for all passes.
-    std::vector<double> length(rings.neighbours.size(), 0.0);
+    // The vertices the kernel moves (reached, not seeded, not a boundary corner)
+    // and, per ring entry of each, the length of its edge where the kernel weighs
+    // it, else 0, and its weight 1 / length: taken once for all passes. A march
+    // stopped at max_distance reaches part of the mesh, and only that part is visited.
+    std::vector<std::uint32_t> smoothed, offsets{0};
+    std::vector<double> length, inverse;
     for (std::uint32_t v = 0; v < dist.size(); ++v) {
         if (seeds[v] < kInf || dist[v] == kInf) continue;
         const bool boundary = !rings.is_closed(v);
         if (boundary && !is_straight_boundary(p, rings, v)) continue;
+        smoothed.push_back(v);
         for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i)
-            if (!boundary || is_boundary_entry(rings, v, i)) length[i] = glm::length(p[rings.neighbours[i]] - p[v]);
+            length.push_back(!boundary || is_boundary_entry(rings, v, i) ? glm::length(p[rings.neighbours[i]] - p[v])
+                                                                         : 0.0);
+        offsets.push_back(static_cast<std::uint32_t>(length.size()));
     }
-    std::vector<double> next(dist.size());
+    inverse.reserve(length.size());
+    for (const double len : length) inverse.push_back(len > 0.0 ? 1.0 / len : 0.0);
+    std::vector<double> next = dist;
     for (int it = 0; it < iterations; ++it) {
-        for (std::uint32_t v = 0; v < dist.size(); ++v) {
-            next[v] = dist[v];
-            if (seeds[v] < kInf || dist[v] == kInf) continue;
+        for (std::size_t j = 0; j < smoothed.size(); ++j) {
+            const std::uint32_t v = smoothed[j];
             double sum = 0.0, weight = 0.0;
-            for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
+            for (std::uint32_t i = rings.begin(v), k = offsets[j]; i < rings.end(v); ++i, ++k) {
                 const std::uint32_t w = rings.neighbours[i];
-                const double len = length[i];
+                const double len = length[k];
                 if (dist[w] == kInf || len <= 0.0) continue;
                 sum += dist[w] / len;
-                weight += 1.0 / len;
+                weight += inverse[k];
             }
-            if (weight > 0.0) next[v] = 0.5 * dist[v] + 0.5 * sum / weight;
+            next[v] = weight > 0.0 ? 0.5 * dist[v] + 0.5 * sum / weight : dist[v];
         }
         dist.swap(next);
     }
