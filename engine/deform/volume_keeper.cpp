@@ -1,7 +1,9 @@
 #include "deform/volume_keeper.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -10,6 +12,25 @@
 #include "mesh/geometry.h"
 
 namespace vfsd {
+
+namespace {
+
+// Whether every edge at v borders two of its triangles: v is on no border,
+// though it may join several fans (a pinch, where two closed parts of the
+// surface touch at a vertex). Each wedge (v, a, b) holds the edges va and vb.
+bool all_edges_shared(const VertexRings& rings, std::uint32_t v) {
+    std::vector<std::pair<std::uint32_t, int>> edges;  // neighbour, wedges holding its edge
+    const auto add = [&](std::uint32_t a) {
+        for (auto& e : edges)
+            if (e.first == a) return void(++e.second);
+        edges.emplace_back(a, 1);
+    };
+    for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
+        if (rings.wedge[k]) add(rings.neighbours[k]), add(rings.neighbours[rings.next(v, k)]);
+    return !edges.empty() && std::all_of(edges.begin(), edges.end(), [](const auto& e) { return e.second == 2; });
+}
+
+}  // namespace
 
 VolumeKeeper::VolumeKeeper(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings,
                            const std::vector<std::uint32_t>& blend)
@@ -20,6 +41,7 @@ VolumeKeeper::VolumeKeeper(const std::vector<Vec3>& rest, const std::vector<doub
     double fixed = 0.0;
     for (std::uint32_t v = 0; v < n; ++v) {
         for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+            if (!rings.wedge[k]) continue;  // between two fans of a pinched vertex
             const std::uint32_t a = rings.neighbours[k], b = rings.neighbours[rings.next(v, k)];
             if (v > a || v > b) continue;  // each triangle once, from its lowest corner
             if (s[v] < 1.0 || s[a] < 1.0 || s[b] < 1.0) moving_.push_back(Triangle(v, a, b));
@@ -37,7 +59,7 @@ bool VolumeKeeper::applies_to(const VertexRings& rings) {
     const auto n = static_cast<std::uint32_t>(rings.vertex_count());
     if (n == 0) return false;
     for (std::uint32_t v = 0; v < n; ++v)
-        if (!rings.is_closed(v)) return false;
+        if (!rings.is_closed(v) && !all_edges_shared(rings, v)) return false;
     return true;
 }
 

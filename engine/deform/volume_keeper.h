@@ -30,12 +30,15 @@ public:
     static constexpr int kStepsAfterRepair = 3;
 
     // `rest` and `s` in the rings' vertex order. Inactive (restore does nothing)
-    // unless every ring is closed: an open or non-manifold surface encloses no volume.
+    // unless applies_to(rings): a surface with a border encloses no volume.
     VolumeKeeper(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings,
                  const std::vector<std::uint32_t>& blend);
     VolumeKeeper() = default;
 
-    // Whether a keeper of a mesh with these rings is active: every ring closed.
+    // Whether a keeper of a mesh with these rings is active: every edge borders
+    // two triangles. A vertex may join several fans (a pinch: two closed parts
+    // touching there); the volume is then still their sum (deform/quality.h's
+    // volume_defined says the same of the mesh).
     static bool applies_to(const VertexRings& rings);
     bool active() const { return active_; }
     double rest_volume() const { return rest_volume_; }
