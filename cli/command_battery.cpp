@@ -1,4 +1,4 @@
-// vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR] [--coarse]
+// vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR [--any-mesh]] [--coarse]
 //              [--worst K] [--steps N | --tolerance T [--reference-steps N [--baseline-steps M]
 //              [--reference-check]]] [--threads N] [--only INDEX]
 //
@@ -176,6 +176,7 @@ nlohmann::json outcome_json(const Outcome& o) {
             {"flipped_triangles", o.quality.flipped_triangles},
             {"reversed_triangles", o.quality.reversed_triangles},
             {"first_fold_time", o.first_fold_time},
+            {"volume_defined", o.quality.volume_defined},
             {"volume_error_percent", o.quality.volume_error_percent},
             {"volume_change_percent", o.quality.volume_change_percent},
             {"outer_max_displacement", o.quality.outer_max_displacement},
@@ -254,7 +255,7 @@ void write_csv(const std::filesystem::path& path, const std::vector<Outcome>& ou
 
 // The mesh files in `dir` that can host battery scenes; the others are named on
 // stderr with the reason.
-std::vector<std::string> mesh_files_in(const std::string& dir) {
+std::vector<std::string> mesh_files_in(const std::string& dir, bool any_surface) {
     std::vector<std::string> files, usable;
     if (dir.empty()) return files;
     std::error_code ec;
@@ -267,7 +268,7 @@ std::vector<std::string> mesh_files_in(const std::string& dir) {
     for (const std::string& file : files) {
         std::string why;
         try {
-            why = vfsd::battery_mesh_unusable(vfsd::load_mesh_file(file).mesh);
+            why = vfsd::battery_mesh_unusable(vfsd::load_mesh_file(file), any_surface);
         } catch (const vfsd::InputError& e) {
             why = e.what();
         }
@@ -289,8 +290,8 @@ int non_negative_int(const Args& args, const char* option, int fallback) {
 }  // namespace
 
 int run_battery(const Args& args) {
-    args.expect({"out", "seed", "count", "mesh-dir", "mesh", "coarse", "worst", "steps", "tolerance", "reference-steps",
-                 "baseline-steps", "reference-check", "threads", "only", "amplitude", "scheme"},
+    args.expect({"out", "seed", "count", "mesh-dir", "any-mesh", "mesh", "coarse", "worst", "steps", "tolerance",
+                 "reference-steps", "baseline-steps", "reference-check", "threads", "only", "amplitude", "scheme"},
                 0, 0);
     const double tolerance = args.get_number("tolerance", 0.0);
     if (!(tolerance >= 0.0 && tolerance <= 0.1)) throw UsageError("--tolerance expects 0 to 0.1");
@@ -311,8 +312,9 @@ int run_battery(const Args& args) {
     if (!(amplitude > 0.0 && amplitude <= 1.0)) throw UsageError("--amplitude expects a number in (0, 1]");
     if (args.has("threads")) set_parallel_thread_limit(std::max(1, non_negative_int(args, "threads", 0)));
     std::vector<std::string> sources =
-        args.has("mesh") ? std::vector<std::string>{args.get("mesh")}
-                         : battery_mesh_sources(mesh_files_in(args.get("mesh-dir")), !args.has("coarse"));
+        args.has("mesh")
+            ? std::vector<std::string>{args.get("mesh")}
+            : battery_mesh_sources(mesh_files_in(args.get("mesh-dir"), args.has("any-mesh")), !args.has("coarse"));
     const std::filesystem::path dir = args.get("out");
     std::filesystem::create_directories(dir);
 
@@ -334,13 +336,15 @@ int run_battery(const Args& args) {
         Outcome& o = outcomes.back();
         if (reference_steps > 0 && o.error.empty())
             compare_with_fixed_steps(o, reference_steps, baseline_steps, reference_check);
+        char volume[32] = "   (none)";  // a surface with a border encloses no volume
+        if (o.quality.volume_defined) std::snprintf(volume, sizeof volume, "%+8.4f%%", o.quality.volume_change_percent);
         std::printf(
-            "%-48s %7zu v  folds %5zu (reversed %5zu)  volume %+8.4f%%  outer %.1e  inner %.1e  %6.2f ms/step  "
+            "%-48s %7zu v  folds %5zu (reversed %5zu)  volume %s  outer %.1e  inner %.1e  %6.2f ms/step  "
             "repaired %3zu steps (%.1e D)  refined %d (+%zu v)  %d steps (%d rejected)%s%s%s\n",
             o.battery.name.c_str(), o.battery.mesh.mesh.vertex_count(), o.quality.flipped_triangles,
-            o.quality.reversed_triangles, o.quality.volume_change_percent, o.quality.outer_max_displacement,
-            o.quality.inner_rigid_residual, o.ms_per_step, o.repairs.steps_repaired, o.repair_shift_over_diagonal,
-            o.refinements, o.vertices_added, o.steps, o.rejected,
+            o.quality.reversed_triangles, volume, o.quality.outer_max_displacement, o.quality.inner_rigid_residual,
+            o.ms_per_step, o.repairs.steps_repaired, o.repair_shift_over_diagonal, o.refinements, o.vertices_added,
+            o.steps, o.rejected,
             o.reference_distance >= 0.0
                 ? ("  " + std::to_string(reference_steps) + " fixed steps: " + std::to_string(o.reference_distance) +
                    " (99.9 %: " + std::to_string(o.reference_distance_p999) + ") of the size away, " +
@@ -370,7 +374,7 @@ int run_battery(const Args& args) {
     double outer = 0.0, inner = 0.0, shift = 0.0;
     for (const Outcome& o : outcomes) {
         scenes.push_back(outcome_json(o));
-        volume.push_back(o.quality.volume_error_percent);
+        if (o.quality.volume_defined) volume.push_back(o.quality.volume_error_percent);
         ms.push_back(o.ms_per_step);
         step_counts.push_back(o.steps);
         if (o.reference_distance >= 0.0) {
@@ -407,6 +411,7 @@ int run_battery(const Args& args) {
                                     {"flipped_triangles", folds},
                                     {"scenes_with_reversed_triangles", reversed_scenes},
                                     {"reversed_triangles", reversed},
+                                    {"scenes_with_volume", volume.size()},
                                     {"volume_error_percent_median", percentile(volume, 0.5)},
                                     {"volume_error_percent_p95", percentile(volume, 0.95)},
                                     {"volume_error_percent_max", percentile(volume, 1.0)},
@@ -440,19 +445,25 @@ int run_battery(const Args& args) {
     std::stable_sort(order.begin(), order.end(), [](const Outcome* a, const Outcome* b) {
         if (a->quality.flipped_triangles != b->quality.flipped_triangles)
             return a->quality.flipped_triangles > b->quality.flipped_triangles;
-        return a->quality.volume_error_percent > b->quality.volume_error_percent;
+        const auto error = [](const Outcome* o) {
+            return o->quality.volume_defined ? o->quality.volume_error_percent : 0.0;
+        };
+        return error(a) > error(b);
     });
     for (int k = 0; k < worst && k < int(order.size()); ++k) write_worst(dir, k + 1, *order[k]);
 
+    const std::string volume_of = volume.size() == outcomes.size()
+                                      ? ""
+                                      : " (of the " + std::to_string(volume.size()) + " scenes that enclose one)";
     std::printf(
         "battery seed %d, amplitude %g, scheme %s: %zu scenes, %zu failed, %zu with folds (%zu triangles), %zu with "
-        "reversed triangles (%zu); volume error median %.4f%%, "
+        "reversed triangles (%zu); volume error%s median %.4f%%, "
         "p95 %.4f%%, max %.4f%%; outer displacement max %.3g; inner rigid residual max %.3g; %.3f ms/step "
         "median; fold repair in %zu scenes (largest move %.2g D); refined in %zu\n",
         seed, amplitude, scheme.c_str(), outcomes.size(), failed, folded, folds, reversed_scenes, reversed,
-        summary["volume_error_percent_median"].get<double>(), summary["volume_error_percent_p95"].get<double>(),
-        summary["volume_error_percent_max"].get<double>(), outer, inner, summary["ms_per_step_median"].get<double>(),
-        repaired, shift, refined);
+        volume_of.c_str(), summary["volume_error_percent_median"].get<double>(),
+        summary["volume_error_percent_p95"].get<double>(), summary["volume_error_percent_max"].get<double>(), outer,
+        inner, summary["ms_per_step_median"].get<double>(), repaired, shift, refined);
     std::printf("steps: median %g, most %g%s\n", percentile(step_counts, 0.5), percentile(step_counts, 1.0),
                 tolerance > 0.0 ? " (error-controlled)" : "");
     if (reference_steps > 0)

@@ -40,6 +40,7 @@ json describe_mesh(const std::string& spec, const MeshFile& file) {
     out["mesh"] = spec;
     out["format"] = file.format;
     out["file_vertices"] = file.file_vertex_count();
+    out["turned_triangles"] = file.turned_triangles;
     out["vertices"] = mesh.vertex_count();
     out["triangles"] = mesh.triangle_count();
     out["boundary_edges"] = report.boundary_edges.size();
@@ -91,6 +92,11 @@ void print_text(const json& d) {
     std::printf("boundary loops %zu%s\n", d["boundary_loops"].size(), loops.empty() ? "" : (" (edges: " + loops + ")").c_str());
     std::printf("closed         %s\n", d["closed"].get<bool>() ? "yes" : "no");
     std::printf("manifold       %s\n", d["manifold"].get<bool>() ? "yes" : ("no: " + join(d["reasons"], "; ")).c_str());
+    if (d["turned_triangles"].get<std::size_t>() > 0)
+        std::printf(
+            "winding        %zu triangles turned to agree with their neighbours (the file's were wound "
+            "against them)\n",
+            d["turned_triangles"].get<std::size_t>());
     if (!d["warnings"].empty()) std::printf("warnings       %s\n", join(d["warnings"], "; ").c_str());
     std::printf("valence        min %u, max %u; histogram", d["valence"]["min"].get<unsigned>(), d["valence"]["max"].get<unsigned>());
     // JSON object keys sort as text ("10" < "3"): print in numeric order.

@@ -103,7 +103,7 @@ const std::vector<Command>& commands() {
          "shape with error-controlled steps.\n",
          run_bench},
         {"battery", "deform generated scenes nobody tuned and measure folds, volume, rigidity",
-         "usage: vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR | --mesh SPEC] [--coarse]\n"
+         "usage: vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR [--any-mesh] | --mesh SPEC] [--coarse]\n"
          "                   [--worst K] [--steps N | --tolerance T [--reference-steps N [--baseline-steps M]\n"
          "                   [--reference-check]]] [--threads N] [--only INDEX] [--amplitude A]\n"
          "                   [--scheme default|paper|no-repair|no-refinement]\n"
@@ -115,9 +115,11 @@ const std::vector<Command>& commands() {
          "and how far the N are from 2N, whether the reference itself is converged).\n"
          "Generates K scenes (default 30) from seed N (default 1): the built-in meshes at a\n"
          "coarse and a fine resolution (--coarse: coarse only) and every mesh file in\n"
-         "--mesh-dir (e.g. assets/cgal), or the one --mesh; each turned, scaled, moved far\n"
-         "from the origin and sometimes mirrored at random; regions of every kind (geodesic,\n"
-         "selectors, vertex lists, painted s) with a blend region at least 6 rings wide;\n"
+         "--mesh-dir (e.g. assets/cgal) that is closed, in one piece and of 500 vertices or\n"
+         "more (--any-mesh: with borders and pinched vertices too), or the one --mesh;\n"
+         "each turned, scaled, moved far from the origin and sometimes mirrored at random;\n"
+         "regions of every kind (geodesic, selectors, vertex lists, painted s) with a blend\n"
+         "region at least 6 rings wide;\n"
          "curves of 1-3 pieces bending up to 180 degrees, handles, twists in [-180, 180],\n"
          "rotation and translation (--amplitude A in (0, 1] scales bends, twists, turns and\n"
          "moves down). Each is deformed on the CPU (--steps overrides the 250\n"

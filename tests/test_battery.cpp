@@ -117,18 +117,26 @@ TEST_CASE("battery scenes on a coarse CAD mesh still have a blend region 6 rings
     }
 }
 
-TEST_CASE("battery meshes must be closed, in one piece and large enough", "[battery]") {
-    CHECK(battery_mesh_unusable(load_mesh_file("builtin:sphere:3").mesh).empty());
-    CHECK(battery_mesh_unusable(load_mesh_file("builtin:sphere:1").mesh).find("vertices") != std::string::npos);
+TEST_CASE("battery meshes must be closed, consistently wound, in one piece and large enough", "[battery]") {
+    CHECK(battery_mesh_unusable(load_mesh_file("builtin:sphere:3")).empty());
+    CHECK(battery_mesh_unusable(load_mesh_file("builtin:sphere:1")).find("vertices") != std::string::npos);
     TriangleMesh open = load_mesh_file("builtin:sphere:3").mesh;
     open.triangles.pop_back();
-    CHECK(battery_mesh_unusable(open).find("open") != std::string::npos);
+    CHECK(battery_mesh_unusable(weld_mesh(open, "off")).find("open") != std::string::npos);
+    // Triangles wound against their neighbours in the file: welding turns them,
+    // and the battery takes the mesh only when told to take any surface.
+    TriangleMesh wound = load_mesh_file("builtin:sphere:3").mesh;
+    for (std::size_t t = 0; t < wound.triangles.size(); t += 7) std::swap(wound.triangles[t][0], wound.triangles[t][1]);
+    CHECK(battery_mesh_unusable(weld_mesh(wound, "off")).find("wound inconsistently") != std::string::npos);
+    CHECK(battery_mesh_unusable(weld_mesh(wound, "off"), true).empty());
+    CHECK(battery_mesh_unusable(weld_mesh(open, "off"), true).empty());
     TriangleMesh two = load_mesh_file("builtin:sphere:3").mesh;
     const auto n = static_cast<std::uint32_t>(two.positions.size());
     const std::size_t triangles = two.triangles.size();
     for (std::uint32_t v = 0; v < n; ++v) two.positions.push_back(two.positions[v] + Vec3(5.0, 0.0, 0.0));
     for (std::size_t t = 0; t < triangles; ++t) two.triangles.push_back(two.triangles[t] + Triangle(n));
-    CHECK(battery_mesh_unusable(two) == "more than one piece");
+    CHECK(battery_mesh_unusable(weld_mesh(two, "off")) == "more than one piece");
+    CHECK(battery_mesh_unusable(weld_mesh(two, "off"), true) == "more than one piece");
 }
 
 TEST_CASE("battery at a quarter amplitude: no folds, outer in place, inner rigid, volume kept", "[battery][deform]") {

@@ -87,7 +87,15 @@ TEST_CASE("glTF strips and fans are triangulated and seams between primitives we
     CHECK(file.file_vertex_count() == 8);  // the LINES primitive is skipped
     CHECK(file.mesh.vertex_count() == 4);
     REQUIRE(file.mesh.triangle_count() == 4);
-    for (const Triangle& t : file.mesh.triangles) CHECK(face_normal(file.mesh, t).z == Approx(1.0));
+    // As stored, every triangle of both primitives faces +z.
+    const TriangleMesh stored = to_file_layout(file, file.mesh);
+    for (const Triangle& t : stored.triangles) CHECK(face_normal(stored, t).z == Approx(1.0));
+    // Welded, the two primitives cover the square twice and close into a flat
+    // pillow, which welding winds consistently (io/mesh_file.h): one sheet up, one down.
+    CHECK(file.turned_triangles == 2);
+    int up = 0;
+    for (const Triangle& t : file.mesh.triangles) up += face_normal(file.mesh, t).z > 0.0;
+    CHECK(up == 2);
 }
 
 TEST_CASE("glTF accessors that reach beyond their buffer are refused", "[io][gltf]") {

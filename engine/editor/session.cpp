@@ -56,8 +56,10 @@ void accumulate(RegionEdit& total, const RegionEdit& next) {
     merge_edit(total, next);
 }
 
-std::vector<std::string> mesh_warnings(const TriangleMesh& mesh) {
+std::vector<std::string> mesh_warnings(const MeshFile& file) {
+    const TriangleMesh& mesh = file.mesh;
     std::vector<std::string> out;
+    if (std::string turned = turned_triangles_warning(file); !turned.empty()) out.push_back(std::move(turned));
     const ValidationReport report = validate_mesh(mesh);
     if (!report.is_manifold)
         for (const std::string& r : report.reasons) out.push_back("mesh: not a 2-manifold: " + r);
@@ -229,7 +231,7 @@ void EditorSession::replace_document(Document doc) {
     // the old one kept aside, and a failure puts the old one back.
     doc.rings = build_vertex_rings(doc.file.mesh);
     doc.paint = make_region_paint(doc.file.mesh.vertex_count());
-    doc.mesh_warnings = mesh_warnings(doc.file.mesh);
+    doc.mesh_warnings = mesh_warnings(doc.file);
     InnerMotion motion = build_motion(doc.scene.motion);
     compute_region(kToTheEnd);  // no region left to compute refers to the document set aside
     std::swap(doc_, doc);

@@ -17,6 +17,7 @@
 #include "base/error.h"
 #include "io/format_io.h"
 #include "mesh/builtin_meshes.h"
+#include "mesh/orientation.h"
 
 namespace vfsd {
 namespace {
@@ -126,8 +127,16 @@ MeshFile weld_mesh(TriangleMesh file_mesh, const std::string& format) {
         const Triangle w(out.file_to_mesh[t[0]], out.file_to_mesh[t[1]], out.file_to_mesh[t[2]]);
         if (w[0] != w[1] && w[1] != w[2] && w[0] != w[2]) out.mesh.triangles.push_back(w);
     }
+    out.turned_triangles = orient_consistently(out.mesh.triangles);
     out.file_triangles = std::move(file_mesh.triangles);
     return out;
+}
+
+std::string turned_triangles_warning(const MeshFile& file) {
+    if (file.turned_triangles == 0) return "";
+    return "mesh: " + std::to_string(file.turned_triangles) + " of " + std::to_string(file.mesh.triangle_count()) +
+           " triangles were wound against their neighbours; they are turned to agree (a result written in the "
+           "file's layout keeps the file's triangles)";
 }
 
 namespace {

@@ -14,7 +14,9 @@
 // exactly the same position become one. Welded vertices are numbered in order of
 // first appearance in the file, so a file without repeated positions keeps its
 // vertex indices unchanged. Triangles that welding (or the file) makes degenerate
-// (a repeated corner) are dropped from the welded mesh.
+// (a repeated corner) are dropped from the welded mesh, and triangles wound
+// against their neighbours are turned to agree (mesh/orientation.h; the welded
+// mesh only: a result written in the file's layout keeps the file's triangles).
 //
 // MeshFile keeps what is needed to write a result back in the file's own layout:
 // `file_to_mesh[i]` is the welded vertex of file vertex i, and `file_triangles` are
@@ -42,6 +44,9 @@ struct MeshFile {
     std::vector<std::uint32_t> file_to_mesh;  // file vertex index -> welded vertex index
     std::vector<Triangle> file_triangles;     // the file's triangles, in file vertex indices
     std::string format;                       // "obj", "off", "ply", "stl", "gltf", "glb", "builtin"
+    // Triangles of mesh turned to their neighbours' winding (mesh/orientation.h);
+    // file_triangles keep the file's.
+    std::size_t turned_triangles = 0;
 
     std::size_t file_vertex_count() const { return file_to_mesh.size(); }
     // True when the welded mesh is the file's mesh unchanged (same vertices, same triangles).
@@ -76,6 +81,10 @@ TriangleMesh to_file_layout(const MeshFile& file, const TriangleMesh& welded);
 // Welds vertices with exactly equal positions (see above). `file_mesh` is the mesh
 // as stored in a file; `source` names it in messages.
 MeshFile weld_mesh(TriangleMesh file_mesh, const std::string& format);
+
+// What a user should be told when welding turned triangles to their neighbours'
+// winding ("" when it turned none).
+std::string turned_triangles_warning(const MeshFile& file);
 
 // Writes `bytes` to `path` through a temporary file in the same folder, fsync and
 // rename. Throws IoError on failure, leaving any existing `path` untouched.

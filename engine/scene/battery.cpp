@@ -189,13 +189,16 @@ std::string short_name(const std::string& source) {
 
 }  // namespace
 
-std::string battery_mesh_unusable(const TriangleMesh& mesh) {
+std::string battery_mesh_unusable(const MeshFile& file, bool any_surface) {
+    const TriangleMesh& mesh = file.mesh;
     const std::size_t n = mesh.vertex_count();
     if (n < kBatteryMinVertices)
         return std::to_string(n) + " vertices (fewer than " + std::to_string(kBatteryMinVertices) + ")";
     const VertexRings rings = build_vertex_rings(mesh);
-    for (std::uint32_t v = 0; v < n; ++v)
+    for (std::uint32_t v = 0; v < n && !any_surface; ++v)
         if (!rings.is_closed(v)) return "open (vertex " + std::to_string(v) + " is on a border or not manifold)";
+    if (file.turned_triangles > 0 && !any_surface)
+        return "wound inconsistently (" + std::to_string(file.turned_triangles) + " triangles turned)";
     std::vector<bool> reached(n, false);
     std::vector<std::uint32_t> queue = {0};
     reached[0] = true;

@@ -40,11 +40,16 @@ constexpr int kBatteryBlendRings = 6;
 std::vector<std::string> battery_mesh_sources(const std::vector<std::string>& mesh_files, bool fine_builtins = true);
 
 // Why a mesh cannot host battery scenes ("" when it can): a battery scene needs
-// a closed surface (so that its volume is defined), one piece (so that every
-// vertex has a geodesic distance) and at least kBatteryMinVertices vertices (so
-// that an inner, a blend region six rings wide and an outer region fit on it).
+// a closed surface (so that its volume is defined), wound consistently in the
+// file, one piece (so that every vertex has a geodesic distance) and at least
+// kBatteryMinVertices vertices (so that an inner, a blend region six rings wide
+// and an outer region fit on it). `any_surface`: a surface with borders, pinched
+// vertices, non-manifold edges or triangles wound against their neighbours in
+// the file will do too (its volume may then be undefined), as users' meshes
+// come. (Welding turns such triangles to agree, io/mesh_file.h; the default
+// leaves their meshes out, so that its scenes stay those it has always made.)
 constexpr std::size_t kBatteryMinVertices = 500;
-std::string battery_mesh_unusable(const TriangleMesh& mesh);
+std::string battery_mesh_unusable(const MeshFile& file, bool any_surface = false);
 
 // Scene `index` of battery `seed` over `mesh_sources` (index picks the mesh in
 // turn). At amplitude 1 bends reach 180°, twists ±180°, handles turn up to 90°

@@ -156,6 +156,7 @@ PreparedScene prepare_scene(const Scene& scene, MeshFile file) {
     PreparedScene p;
     p.scene = scene;
     p.file = std::move(file);
+    if (std::string turned = turned_triangles_warning(p.file); !turned.empty()) p.warnings.push_back(std::move(turned));
     p.rings = build_vertex_rings(p.file.mesh);
     p.region = build_region(scene.region, p.file.mesh.positions, p.rings, p.warnings);
     prepare_motion(p);
