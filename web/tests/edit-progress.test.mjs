@@ -46,6 +46,10 @@ try {
   }, null, { polling: 10, timeout: 300000 });
   const seen = await api(() => performance.now());
   const reached = await api(() => window.vfsd.reachedTargetAt());
+  // The panel shows the state at the page's next frame after the one that reached
+  // t = 1, which a busy machine may run some time after the state says so.
+  await page.waitForFunction(() => !document.getElementById('time-value').textContent.startsWith('updating'),
+                             null, { polling: 10, timeout: 60000 }).catch(() => {});
   const progress = await api(() => { window.progress.running = false; return window.progress; });
   const after = await api(() => window.vfsd.positionsChecksum());
   const end = await api(() => window.vfsd.state());
