@@ -197,7 +197,8 @@ std::string battery_mesh_unusable(const MeshFile& file, bool any_surface) {
     const VertexRings rings = build_vertex_rings(mesh);
     for (std::uint32_t v = 0; v < n && !any_surface; ++v)
         if (!rings.is_closed(v)) return "open (vertex " + std::to_string(v) + " is on a border or not manifold)";
-    if (file.turned_triangles > 0 && !any_surface)
+    if (any_surface) return "";
+    if (file.turned_triangles > 0)
         return "wound inconsistently (" + std::to_string(file.turned_triangles) + " triangles turned)";
     std::vector<bool> reached(n, false);
     std::vector<std::uint32_t> queue = {0};

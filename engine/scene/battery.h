@@ -44,10 +44,10 @@ std::vector<std::string> battery_mesh_sources(const std::vector<std::string>& me
 // file, one piece (so that every vertex has a geodesic distance) and at least
 // kBatteryMinVertices vertices (so that an inner, a blend region six rings wide
 // and an outer region fit on it). `any_surface`: a surface with borders, pinched
-// vertices, non-manifold edges or triangles wound against their neighbours in
-// the file will do too (its volume may then be undefined), as users' meshes
-// come. (Welding turns such triangles to agree, io/mesh_file.h; the default
-// leaves their meshes out, so that its scenes stay those it has always made.)
+// vertices, non-manifold edges, triangles wound against their neighbours in the
+// file or several pieces will do too (its volume may then be undefined; a
+// geodesic region stays on its seed's piece), as users' meshes come. (Welding turns such triangles to agree,
+// io/mesh_file.h; the default leaves their meshes out, so that its scenes stay those it has always made.)
 constexpr std::size_t kBatteryMinVertices = 500;
 std::string battery_mesh_unusable(const MeshFile& file, bool any_surface = false);
 
