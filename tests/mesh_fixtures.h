@@ -1,9 +1,17 @@
 #pragma once
-// Small generated meshes for the tests: a cube, open grids and annuli, and a mesh
-// whose vertices have every valence from 3 to 20.
+// Small generated meshes for the tests: a cube, open grids and annuli, a mesh
+// whose vertices have every valence from 3 to 20, and two spheres touching at a
+// vertex.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <random>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "curve/bezier_curve.h"
 
 #include "mesh/builtin_meshes.h"
 #include "mesh/triangle_mesh.h"
@@ -76,6 +84,52 @@ inline TriangleMesh valence_zoo() {
         }
     }
     return m;
+}
+
+// Two spheres, the second turned at random and scaled by 0.4 to 0.8, on top of
+// the first and touching it at one vertex, welded there: a closed surface with
+// a pinched vertex (two closed fans), as real meshes have where parts touch.
+inline TriangleMesh pinched_spheres(std::mt19937& random) {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    TriangleMesh mesh = make_builtin_mesh("sphere", 3);
+    const TriangleMesh other = make_builtin_mesh("sphere", 2);
+    const Vec3 axis =
+        glm::normalize(Vec3(unit(random) - 0.5, unit(random) - 0.5, unit(random) - 0.5) + Vec3(0, 0, 1e-3));
+    const glm::dmat4 turn = glm::rotate(glm::dmat4(1.0), 6.283185307179586 * unit(random), axis);
+    const double scale = 0.4 + 0.4 * unit(random);
+    std::vector<Vec3> placed;
+    for (const Vec3& p : other.positions) placed.push_back(scale * Vec3(turn * glm::dvec4(p, 1.0)));
+    const auto by_height = [](const Vec3& a, const Vec3& b) { return a.z < b.z; };
+    const auto highest = static_cast<std::uint32_t>(
+        std::max_element(mesh.positions.begin(), mesh.positions.end(), by_height) - mesh.positions.begin());
+    const auto lowest =
+        static_cast<std::uint32_t>(std::min_element(placed.begin(), placed.end(), by_height) - placed.begin());
+    const Vec3 shift = mesh.positions[highest] - placed[lowest];
+    std::vector<std::uint32_t> index(placed.size());
+    for (std::uint32_t v = 0; v < placed.size(); ++v) {
+        index[v] = v == lowest ? highest : static_cast<std::uint32_t>(mesh.positions.size());
+        if (v != lowest) mesh.positions.push_back(placed[v] + shift);
+    }
+    for (const Triangle& t : other.triangles) mesh.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
+    return mesh;
+}
+
+// s on pinched_spheres: 0 on the upper sphere's top third, 1 on the lower
+// sphere below z = 0.6, linear in height between (across the pinch at z = 1).
+inline std::vector<double> pinched_spheres_field(const TriangleMesh& m) {
+    double top = -1e30;
+    for (const Vec3& p : m.positions) top = std::max(top, p.z);
+    const double inner = top - 0.3 * (top - 1.0);
+    std::vector<double> s;
+    for (const Vec3& p : m.positions) s.push_back(std::clamp((inner - p.z) / (inner - 0.6), 0.0, 1.0));
+    return s;
+}
+
+// A curve from the top of pinched_spheres up and to the side.
+inline BezierCurve pinched_spheres_curve(const TriangleMesh& m) {
+    double top = -1e30;
+    for (const Vec3& p : m.positions) top = std::max(top, p.z);
+    return BezierCurve({{0, 0, top}, {0, 0, top + 0.3}, {0.3, 0.1, top + 0.6}, {0.7, 0.2, top + 0.7}});
 }
 
 }  // namespace vfsd::fixtures

@@ -17,8 +17,6 @@
 #include <random>
 #include <string>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "base/error.h"
 #include "deform/deformation.h"
 #include "deform/quality.h"
@@ -257,40 +255,6 @@ TEST_CASE("non-manifold edges and vertices deform without NaN; the volume is und
     }
 }
 
-namespace {
-
-// Two spheres, the second turned at random and scaled by 0.4 to 0.8, on top of
-// the first and touching it at one vertex, welded there: a closed surface with
-// a pinched vertex (two closed fans), as real meshes have where parts touch.
-TriangleMesh pinched_spheres(std::mt19937& random) {
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    TriangleMesh mesh = make_builtin_mesh("sphere", 3);
-    const TriangleMesh other = make_builtin_mesh("sphere", 2);
-    const Vec3 axis =
-        glm::normalize(Vec3(unit(random) - 0.5, unit(random) - 0.5, unit(random) - 0.5) + Vec3(0, 0, 1e-3));
-    const glm::dmat4 turn = glm::rotate(glm::dmat4(1.0), 2.0 * kPi * unit(random), axis);
-    const double scale = 0.4 + 0.4 * unit(random);
-    std::vector<Vec3> placed;
-    for (const Vec3& p : other.positions) placed.push_back(scale * Vec3(turn * glm::dvec4(p, 1.0)));
-    const auto highest =
-        static_cast<std::uint32_t>(std::max_element(mesh.positions.begin(), mesh.positions.end(),
-                                                    [](const Vec3& a, const Vec3& b) { return a.z < b.z; }) -
-                                   mesh.positions.begin());
-    const auto lowest = static_cast<std::uint32_t>(
-        std::min_element(placed.begin(), placed.end(), [](const Vec3& a, const Vec3& b) { return a.z < b.z; }) -
-        placed.begin());
-    const Vec3 shift = mesh.positions[highest] - placed[lowest];
-    std::vector<std::uint32_t> index(placed.size());
-    for (std::uint32_t v = 0; v < placed.size(); ++v) {
-        index[v] = v == lowest ? highest : static_cast<std::uint32_t>(mesh.positions.size());
-        if (v != lowest) mesh.positions.push_back(placed[v] + shift);
-    }
-    for (const Triangle& t : other.triangles) mesh.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
-    return mesh;
-}
-
-}  // namespace
-
 // Generated placements, the blend region across the pinch: the volume keeper
 // applies (every edge borders two triangles) and keeps the sum of the two
 // volumes; nothing folds.
@@ -298,17 +262,12 @@ TEST_CASE("a closed surface pinched at a vertex keeps its volume", "[hostile][me
     std::mt19937 random(41);
     for (int trial = 0; trial < 6; ++trial) {
         INFO("trial " << trial);
-        const TriangleMesh m = pinched_spheres(random);
+        const TriangleMesh m = fixtures::pinched_spheres(random);
         REQUIRE(validate_mesh(m).non_manifold_vertices.size() == 1);
         const VertexRings rings = build_vertex_rings(m);
         REQUIRE(VolumeKeeper::applies_to(rings));
-        double top = -1e30;
-        for (const Vec3& p : m.positions) top = std::max(top, p.z);
-        // s = 0 on the upper sphere's top, 1 on the lower sphere below z = 0.6.
-        std::vector<double> s;
-        for (const Vec3& p : m.positions)
-            s.push_back(std::clamp((top - 0.3 * (top - 1.0) - p.z) / (top - 0.3 * (top - 1.0) - 0.6), 0.0, 1.0));
-        const BezierCurve curve({{0, 0, top}, {0, 0, top + 0.3}, {0.3, 0.1, top + 0.6}, {0.7, 0.2, top + 0.7}});
+        const std::vector<double> s = fixtures::pinched_spheres_field(m);
+        const BezierCurve curve = fixtures::pinched_spheres_curve(m);
         Deformation d(m.positions, rings, Region{s, {}},
                       InnerMotion::along_curve(curve, InnerMotionMode::Rotation, 0.0, trial % 2 ? 0.6 : -0.6),
                       DeformationOptions{});
