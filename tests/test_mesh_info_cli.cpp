@@ -76,6 +76,29 @@ TEST_CASE("vfsd info on an open mesh file", "[mesh][cli]") {
     CHECK(d["volume_note"] == "undefined: open mesh");
 }
 
+TEST_CASE("vfsd info on a file wound inconsistently says how many triangles it turned", "[mesh][cli]") {
+    // The same grid with every third triangle wound the other way.
+    const vfsd::TriangleMesh g = vfsd::fixtures::grid(3, 2);
+    const auto path =
+        std::filesystem::temp_directory_path() / ("vfsd-info-wound-" + std::to_string(::getpid()) + ".off");
+    {
+        std::ofstream f(path);
+        f << "OFF\n" << g.vertex_count() << " " << g.triangle_count() << " 0\n";
+        for (const auto& p : g.positions) f << p.x << " " << p.y << " " << p.z << "\n";
+        for (std::size_t i = 0; i < g.triangles.size(); ++i) {
+            const auto& t = g.triangles[i];
+            f << "3 " << t[0] << " " << (i % 3 == 0 ? t[2] : t[1]) << " " << (i % 3 == 0 ? t[1] : t[2]) << "\n";
+        }
+    }
+    const json d = info_json(path.string());
+    std::string text;
+    CHECK(run_cli("info '" + path.string() + "'", text) == 0);
+    std::filesystem::remove(path);
+    CHECK(d["turned_triangles"] == 4);  // 4 of 12 against the majority
+    CHECK(d["manifold"] == true);       // once turned
+    CHECK(text.find("winding        4 triangles turned") != std::string::npos);
+}
+
 TEST_CASE("vfsd info reports bad input and bad usage", "[mesh][cli]") {
     std::string out;
     CHECK(run_cli("info builtin:torus", out) == 1);
