@@ -2,64 +2,57 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <tuple>
 #include <utility>
 
 namespace vfsd {
 namespace {
 
-// One side of an undirected edge (low, high): the triangle and whether it runs
-// low → high.
-struct EdgeSide {
-    std::uint32_t low, high, triangle;
-    bool forward;
-};
-
-// Per triangle, the triangles across its edges of exactly two triangles, each
-// with whether the two run the edge the same way (one must turn to agree).
-struct TurnGraph {
-    std::vector<std::uint32_t> offsets, neighbours;
-    std::vector<std::uint8_t> same_way;
-};
-
-TurnGraph turn_graph(const std::vector<Triangle>& triangles) {
-    std::vector<EdgeSide> sides;
-    sides.reserve(3 * triangles.size());
-    for (std::uint32_t t = 0; t < triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
-            sides.push_back({std::min(a, b), std::max(a, b), t, a < b});
+// Every triangle's three sides (the edge and which way the triangle runs it),
+// bucketed by the edge's lower vertex: a counting sort, linear in the mesh,
+// whose buckets hold a handful of sides each.
+class EdgeSides {
+public:
+    explicit EdgeSides(const std::vector<Triangle>& triangles) {
+        std::uint32_t n = 0;
+        for (const Triangle& t : triangles) n = std::max({n, t[0] + 1, t[1] + 1, t[2] + 1});
+        offsets_.assign(n + 1, 0);
+        for (const Triangle& t : triangles)
+            for (int k = 0; k < 3; ++k) ++offsets_[std::min(t[k], t[(k + 1) % 3]) + 1];
+        for (std::uint32_t v = 0; v < n; ++v) offsets_[v + 1] += offsets_[v];
+        sides_.resize(offsets_[n]);
+        std::vector<std::uint32_t> filled(offsets_.begin(), offsets_.end() - 1);
+        for (std::uint32_t i = 0; i < triangles.size(); ++i)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t a = triangles[i][k], b = triangles[i][(k + 1) % 3];
+                sides_[filled[std::min(a, b)]++] = {std::max(a, b), i, a < b};
+            }
+    }
+    // The one other triangle on edge a → b of triangle t, and whether it runs
+    // the edge the same way; false unless exactly two triangles share the edge.
+    bool across(std::uint32_t t, std::uint32_t a, std::uint32_t b, std::uint32_t& other, bool& same_way) const {
+        const std::uint32_t low = std::min(a, b), high = std::max(a, b);
+        int found = 0;
+        for (std::uint32_t k = offsets_[low]; k < offsets_[low + 1]; ++k) {
+            const Side& side = sides_[k];
+            if (side.high != high || side.triangle == t) continue;
+            ++found, other = side.triangle, same_way = side.forward == (a < b);
         }
-    std::sort(sides.begin(), sides.end(), [](const EdgeSide& x, const EdgeSide& y) {
-        return std::tie(x.low, x.high, x.triangle) < std::tie(y.low, y.high, y.triangle);
-    });
-    std::vector<std::pair<std::size_t, std::size_t>> links;  // (this side, the other side), indices into sides
-    for (std::size_t i = 0; i < sides.size();) {
-        std::size_t j = i;
-        while (j < sides.size() && sides[j].low == sides[i].low && sides[j].high == sides[i].high) ++j;
-        if (j - i == 2) links.emplace_back(i, i + 1), links.emplace_back(i + 1, i);
-        i = j;
+        return found == 1;
     }
-    TurnGraph g;
-    g.offsets.assign(triangles.size() + 1, 0);
-    for (const auto& link : links) ++g.offsets[sides[link.first].triangle + 1];
-    for (std::size_t t = 0; t < triangles.size(); ++t) g.offsets[t + 1] += g.offsets[t];
-    g.neighbours.resize(links.size());
-    g.same_way.resize(links.size());
-    std::vector<std::uint32_t> filled(g.offsets.begin(), g.offsets.end() - 1);
-    for (const auto& [this_side, other_side] : links) {
-        const EdgeSide &here = sides[this_side], &there = sides[other_side];
-        const std::uint32_t k = filled[here.triangle]++;
-        g.neighbours[k] = there.triangle;
-        g.same_way[k] = here.forward == there.forward;
-    }
-    return g;
-}
+
+private:
+    struct Side {
+        std::uint32_t high, triangle;
+        bool forward;  // the triangle runs the edge from its lower vertex to its higher
+    };
+    std::vector<std::uint32_t> offsets_;
+    std::vector<Side> sides_;
+};
 
 }  // namespace
 
 std::size_t orient_consistently(std::vector<Triangle>& triangles) {
-    const TurnGraph g = turn_graph(triangles);
+    const EdgeSides sides(triangles);
     constexpr std::uint8_t kUnset = 2;
     std::vector<std::uint8_t> turn(triangles.size(), kUnset);  // relative to its part's first triangle
     std::vector<std::uint32_t> part;
@@ -71,10 +64,12 @@ std::size_t orient_consistently(std::vector<Triangle>& triangles) {
         std::size_t turns = 0;
         for (std::size_t i = 0; i < part.size(); ++i) {
             const std::uint32_t t = part[i];
-            for (std::uint32_t k = g.offsets[t]; k < g.offsets[t + 1]; ++k) {
-                const std::uint32_t n = g.neighbours[k];
-                if (turn[n] != kUnset) continue;
-                turn[n] = turn[t] ^ g.same_way[k];
+            for (int k = 0; k < 3; ++k) {
+                std::uint32_t n = 0;
+                bool same_way = false;
+                if (!sides.across(t, triangles[t][k], triangles[t][(k + 1) % 3], n, same_way) || turn[n] != kUnset)
+                    continue;
+                turn[n] = turn[t] ^ std::uint8_t(same_way);
                 turns += turn[n];
                 part.push_back(n);
             }
