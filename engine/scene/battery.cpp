@@ -194,10 +194,10 @@ std::string battery_mesh_unusable(const MeshFile& file, bool any_surface) {
     const std::size_t n = mesh.vertex_count();
     if (n < kBatteryMinVertices)
         return std::to_string(n) + " vertices (fewer than " + std::to_string(kBatteryMinVertices) + ")";
-    const VertexRings rings = build_vertex_rings(mesh);
-    for (std::uint32_t v = 0; v < n && !any_surface; ++v)
-        if (!rings.is_closed(v)) return "open (vertex " + std::to_string(v) + " is on a border or not manifold)";
     if (any_surface) return "";
+    const VertexRings rings = build_vertex_rings(mesh);
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (!rings.is_closed(v)) return "open (vertex " + std::to_string(v) + " is on a border or not manifold)";
     if (file.turned_triangles > 0)
         return "wound inconsistently (" + std::to_string(file.turned_triangles) + " triangles turned)";
     std::vector<bool> reached(n, false);
