@@ -220,6 +220,42 @@ TEST_CASE("integrating forward to t = 1 and back to t = 0 restores the mesh", "[
     CHECK(worst < 1e-4 * diag);
 }
 
+TEST_CASE("with the volume keeper, fixed steps converge at second order in time", "[deform][volume_keeper]") {
+    // ∇r is held at each step's middle (second order); the keeper's velocity is
+    // held there too. Undoing the drift only after each step, as a splitting,
+    // would be first order: halving the steps would halve the difference to a
+    // finer run, not quarter it.
+    const BoxScene scene;
+    std::mt19937 random(31);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const double diagonal = bounding_box(scene.mesh.positions).diagonal();
+    for (int trial = 0; trial < 6; ++trial) {
+        const Vec3 end(0.5 + 0.3 * unit(random), 0.3 * unit(random), 1.3 + 0.2 * unit(random));
+        const BezierCurve curve({{0, 0, 0.6}, {0, 0, 1.0}, {0.5 * end.x, 0.5 * end.y, 1.3}, end});
+        const double twist = (trial % 2 == 0 ? 1.0 : -1.0) * (0.3 + 0.5 * (unit(random) + 1.0));
+        const InnerMotion motion = InnerMotion::along_curve(curve, InnerMotionMode::Rotation, 0.0, twist);
+        std::vector<std::vector<Vec3>> runs;
+        for (const int steps : {50, 100, 200}) {
+            Deformation d = scene.deformation(motion, steps);
+            d.advance(1.0);
+            runs.push_back(d.positions());
+            const double volume = signed_volume(scene.mesh.positions, scene.mesh.triangles);
+            CHECK(std::abs(signed_volume(d.positions(), scene.mesh.triangles) - volume) < 1e-6 * std::abs(volume));
+        }
+        double coarse = 0.0, fine = 0.0;
+        for (std::size_t v = 0; v < runs[0].size(); ++v) {
+            coarse = std::max(coarse, glm::length(runs[0][v] - runs[1][v]));
+            fine = std::max(fine, glm::length(runs[1][v] - runs[2][v]));
+        }
+        INFO("trial " << trial << ": 50 to 100 steps " << coarse / diagonal << ", 100 to 200 steps "
+                      << fine / diagonal);
+        CHECK(fine > 1e-7 * diagonal);  // well above rounding
+        // Second order: 4 (measured 3.8-4.5); with the drift undone after each
+        // step instead, 2.3-2.5 (3.4 in one of these six).
+        CHECK(coarse > 3.5 * fine);
+    }
+}
+
 TEST_CASE("the rigid fit recovers a known motion", "[deform][math]") {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> uni(-1.0, 1.0);

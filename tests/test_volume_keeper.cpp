@@ -1,7 +1,9 @@
 // The volume keeper (deform/volume_keeper.h): it measures the closed mesh's
 // volume as signed_volume does, undoes a small drift of the blend region to
 // second order in it, moves nothing outside the blend region, does nothing on an
-// open surface, and refuses area vectors that do not match its blend region.
+// open surface, and refuses area vectors that do not match its blend region. Its
+// rate is the volume's derivative along the vertices' velocities, and its
+// velocity cancels that rate.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -13,6 +15,7 @@
 
 #include "deform/passes.h"
 #include "deform/volume_keeper.h"
+#include "field/vector_field.h"
 #include "mesh/builtin_meshes.h"
 #include "mesh/geometry.h"
 #include "mesh_fixtures.h"
@@ -36,7 +39,82 @@ std::vector<Vec3> jiggled(std::vector<Vec3> positions, const std::vector<std::ui
     return positions;
 }
 
+// A unit vector in a random direction.
+Vec3 random_direction(std::mt19937& random) {
+    std::normal_distribution<double> normal;
+    return glm::normalize(Vec3(normal(random), normal(random), normal(random)));
+}
+
 }  // namespace
+
+TEST_CASE("the keeper's rate is dV/dt, the inner region moving rigidly, and its velocity cancels it",
+          "[volume_keeper]") {
+    std::mt19937 random(23);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (int trial = 0; trial < 24; ++trial) {
+        // A closed mesh of each kind (two spheres touching at a vertex among
+        // them), turned, scaled and moved off the origin, its surface roughened.
+        TriangleMesh mesh = trial % 4 == 3 ? fixtures::pinched_spheres(random)
+                                           : make_builtin_mesh(trial % 4 == 0   ? "sphere"
+                                                               : trial % 4 == 1 ? "box"
+                                                                                : "cylinder",
+                                                               3);
+        const double scale = std::pow(10.0, unit(random) * 2.0);
+        const Vec3 offset = 100.0 * scale * Vec3(unit(random), unit(random), unit(random));
+        const Vec3 axis = random_direction(random);
+        const double along_lo = unit(random) * 0.3, along_hi = along_lo + 0.3 + 0.3 * (unit(random) + 1.0);
+        std::vector<double> s;
+        for (Vec3& p : mesh.positions) {
+            p += 0.01 * Vec3(unit(random), unit(random), unit(random));
+            s.push_back(std::clamp((glm::dot(p, axis) - along_lo) / (along_hi - along_lo), 0.0, 1.0));
+        }
+        for (Vec3& p : mesh.positions) p = scale * p + offset;
+        const VertexRings rings = build_vertex_rings(mesh);
+        const RegionParts parts = RegionParts::of(s, rings);
+        const VolumeKeeper keeper(mesh.positions, s, rings, parts.blend);
+        REQUIRE(keeper.active());
+        REQUIRE(!parts.blend.empty());
+        REQUIRE(!parts.inner.empty());
+
+        // A rigid motion on the inner region, random velocities on the blend region.
+        MotionSample sample;
+        sample.position = offset + scale * Vec3(unit(random), unit(random), unit(random));
+        sample.velocity = scale * Vec3(unit(random), unit(random), unit(random));
+        sample.angular_velocity = Vec3(unit(random), unit(random), unit(random));
+        sample.twist = 0.5 * Vec3(unit(random), unit(random), unit(random));
+        std::vector<Vec3> u(mesh.positions.size(), Vec3(0.0));
+        for (const std::uint32_t v : parts.inner) u[v] = inner_velocity(sample, mesh.positions[v]);
+        for (const std::uint32_t v : parts.blend) u[v] = scale * Vec3(unit(random), unit(random), unit(random));
+        std::vector<Vec3> area_vectors;
+        ring_area_vectors(mesh.positions, rings, parts.blend, area_vectors);
+        double blend_flux = 0.0;
+        for (std::size_t i = 0; i < parts.blend.size(); ++i) blend_flux += glm::dot(u[parts.blend[i]], area_vectors[i]);
+
+        const double rate = keeper.rate(mesh.positions, blend_flux, sample);
+        // V is cubic along x + e u: the central difference errs by e² times its third derivative / 6.
+        const double epsilon = 1e-4;
+        const auto volume_at = [&](double e) {
+            std::vector<Vec3> x = mesh.positions;
+            for (std::size_t v = 0; v < x.size(); ++v) x[v] += e * u[v];
+            return keeper.volume(x);
+        };
+        const double difference = (volume_at(epsilon) - volume_at(-epsilon)) / (2.0 * epsilon);
+        const double scale_of_terms = std::pow(scale, 3.0) * static_cast<double>(mesh.positions.size());
+        INFO("trial " << trial << ": rate " << rate << ", central difference " << difference);
+        CHECK(std::abs(rate - difference) <= 1e-7 * scale_of_terms);
+        CHECK(std::abs(rate) > 1e-4 * scale_of_terms / std::sqrt(double(mesh.positions.size())));
+
+        // The keeper's velocity, λ w ∂V/∂x on the blend region, adds −rate.
+        const double lambda = keeper.lambda(rate, area_vectors);
+        double added = 0.0;
+        for (std::size_t i = 0; i < parts.blend.size(); ++i) {
+            const double s_i = s[parts.blend[i]];
+            const double w = (1.0 - bernstein_blend(s_i)) * bernstein_blend_derivative(s_i);
+            added += glm::dot(lambda * w * area_vectors[i] / 6.0, area_vectors[i] / 6.0);
+        }
+        CHECK(added == Approx(-rate).epsilon(1e-9));
+    }
+}
 
 TEST_CASE("the volume keeper undoes a blend region's drift to second order and moves nothing else", "[volume_keeper]") {
     const TriangleMesh mesh = make_builtin_mesh("sphere", 3);

@@ -102,6 +102,7 @@ void CpuSteps::start_from_rest() {
         gauge_fit_ = rest_->gauge_fit;
         have_gradients_ = true;
         gradient_time_ = 0.0;
+        estimate_keeper_velocity(positions_, sample_at(0.0));  // the motion's own
     }
 }
 
@@ -198,7 +199,8 @@ void CpuSteps::move(double time, double h, int step) {
     } else {
         if (options_.fit_stream_gauge)
             for (MotionSample* m : {&motion.start, &motion.middle, &motion.end}) m->gauge = gauge_fit_->gauge_for(*m);
-        if (deformation_step(motion, rest_->parts, gradients_, positions_, next_) > 0) check_finite(next_, step, time);
+        if (deformation_step(motion, rest_->parts, gradients_, positions_, next_, keeper_velocity()) > 0)
+            check_finite(next_, step, time);
     }
 }
 
@@ -216,15 +218,16 @@ StepResult CpuSteps::estimate_try(double time, double h, double max_error) {
         *m = frame_.to_local(*m);
         if (options_.fit_stream_gauge) m->gauge = gauge_fit_->gauge_for(*m);
     }
-    predict_midpoints(half, rest_->parts, gradients_, positions_, midpoints_);
+    predict_midpoints(half, rest_->parts, gradients_, positions_, midpoints_, keeper_velocity());
     sample_gradients_.clear();
     for (std::size_t j = 0; j < rest_->gauge_samples.size(); ++j) sample_gradients_.push_back(gradient_at_sample(j));
     const double span = std::abs(time + 0.5 * h - gradient_time_);
     estimate_surface_gradients(midpoints_);
     gradient_time_ = time + 0.5 * h;
     if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(midpoints_);
-    if (!std::isfinite(max_error)) return {};  // only the step control asks (its estimate costs ~0.1 ms)
     if (options_.fit_stream_gauge) motion.middle.gauge = gauge_fit_->gauge_for(motion.middle);
+    estimate_keeper_velocity(midpoints_, motion.middle);
+    if (!std::isfinite(max_error)) return {};  // only the step control asks (its estimate costs ~0.1 ms)
     const double error = std::max(estimate_error(motion.middle, h, span), motion_error(motion, half, time, h));
     // Not taken: the next try predicts its midpoints with the ∇r and the gauge
     // found here, as a step does with its predecessor's.
@@ -336,6 +339,7 @@ void CpuSteps::estimate_at_start(double time) {
     estimate_surface_gradients(positions_);
     gradient_time_ = time;
     if (options_.fit_stream_gauge) gauge_fit_ = fit_stream_gauge(positions_);
+    estimate_keeper_velocity(positions_, sample_at(time));
     if (!building_ || building_->estimated || !options_.gradients_at_midpoint) return;
     CpuRest& rest = *building_;
     rest.estimated = true;
@@ -355,6 +359,30 @@ GaugeFit CpuSteps::fit_stream_gauge(const std::vector<Vec3>& at) const {
         samples.push_back(gauge_sample(at[v], rest_->s[v], gradient_at_sample(j)));
     }
     return GaugeFit(std::move(samples));
+}
+
+// The motion at `time` in the local frame, with the gauge fitted last.
+MotionSample CpuSteps::sample_at(double time) const {
+    MotionSample sample = frame_.to_local(motion_.at(time));
+    if (options_.fit_stream_gauge) sample.gauge = gauge_fit_->gauge_for(sample);
+    return sample;
+}
+
+// The volume keeper's velocity (deform/volume_keeper.h) with the field at `at`
+// for `sample` and the ∇r, gauge and area vectors just estimated there.
+void CpuSteps::estimate_keeper_velocity(const std::vector<Vec3>& at, const MotionSample& sample) {
+    const VolumeKeeper& keeper = rest_->volume;
+    keeper_lambda_ = 0.0;
+    if (!keeper.active()) return;
+    const double flux = blend_flux(sample, rest_->parts, gradients_, at, area_vectors_);
+    keeper_lambda_ = keeper.lambda(keeper.rate(at, flux, sample), area_vectors_);
+}
+
+// The keeper's velocity for the passes: with the area vectors of the last normal
+// pass (or of the fold repair's last move). None where λ is 0, as where a sum
+// was not finite: a non-finite area vector is then not spread.
+KeeperVelocity CpuSteps::keeper_velocity() const {
+    return keeper_lambda_ != 0.0 ? KeeperVelocity{keeper_lambda_, &area_vectors_} : KeeperVelocity{};
 }
 
 // ∇r at the gauge's sample j.

@@ -103,6 +103,9 @@ private:
     double motion_error(const StepMotion& full, const StepMotion& first_half, double time, double h) const;
     bool build_keepers();
     GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
+    MotionSample sample_at(double time) const;
+    void estimate_keeper_velocity(const std::vector<Vec3>& at, const MotionSample& sample);
+    KeeperVelocity keeper_velocity() const;
     Vec3 gradient_at_sample(std::size_t j) const;
 
     // rest_ holds what does not change over the steps (null for the sphere tool);
@@ -126,6 +129,7 @@ private:
     std::vector<Vec3> normals_, next_, midpoints_;
     GradientRecords gradients_;       // ∇r on the blend region
     std::vector<Vec3> area_vectors_;  // per blend vertex, where normals_ were taken: the volume keeper's ∂V/∂x
+    double keeper_lambda_ = 0.0;      // λ of the keeper's velocity where normals_ were taken
     SmoothingScratch smoothing_;
     bool have_gradients_ = false;               // gradients_ hold the last step's ∇r
     double gradient_time_ = 0.0;                // the time gradients_ were estimated for

@@ -81,11 +81,21 @@ void for_each_block(std::size_t n, const Body& body) {
 // The blend vertices blend[first .. first + count) as field lanes: position,
 // 1 − b(s) and ∇b = b′(s) ∇r (eq. 4 with r_i = 0, r_o = 1, r = s).
 struct BlendLanes {
-    Lanes3 position, grad_b;
+    Lanes3 position, grad_b, keeper;
     double one_minus_b[kFieldLanes];
+    bool has_keeper = false;  // the volume keeper's velocity, added at every stage
 
     [[gnu::always_inline]] void gather(const RegionParts& parts, std::size_t first, int count,
-                                       const GradientRecords& gradients, const std::vector<Vec3>& positions) {
+                                       const GradientRecords& gradients, const std::vector<Vec3>& positions,
+                                       const KeeperVelocity& keeper_velocity) {
+        has_keeper = keeper_velocity.area_vectors != nullptr;
+        if (has_keeper)
+            for (int j = 0; j < count; ++j) {
+                const std::size_t i = first + j;
+                const double scale = keeper_velocity.lambda / 6.0 * (parts.one_minus_b[i] * parts.b_slope[i]);
+                const Vec3& a = (*keeper_velocity.area_vectors)[i];
+                keeper.x[j] = scale * a.x, keeper.y[j] = scale * a.y, keeper.z[j] = scale * a.z;
+            }
         for (int j = 0; j < count; ++j) {
             const std::uint32_t v = parts.blend[first + j];
             const Float4& r = gradients[first + j];
@@ -109,6 +119,22 @@ struct BlendLanes {
     }
 }
 
+// The points stage positions and the step's end are taken from: the start
+// positions, or with the keeper's velocity c (constant over the step) the start
+// positions moved along it by half the step and by the whole step. So RK4 of
+// v + c adds c to no stage's field: x + (h/2)(v + c) = (x + (h/2) c) + (h/2) v.
+struct StageBases {
+    Lanes3 half, full;
+    const Lanes3 *to_half, *to_full;
+    [[gnu::always_inline]] StageBases(const BlendLanes& in, int count, double h) {
+        to_half = to_full = &in.position;
+        if (!in.has_keeper) return;
+        add_scaled(count, in.position, 0.5 * h, in.keeper, half);
+        add_scaled(count, in.position, h, in.keeper, full);
+        to_half = &half, to_full = &full;
+    }
+};
+
 // Writes lane j to positions[blend[first + j]].
 [[gnu::always_inline]] inline void scatter(const Lanes3& lanes, const std::vector<std::uint32_t>& blend,
                                            std::size_t first, int count, std::vector<Vec3>& positions) {
@@ -120,30 +146,32 @@ struct BlendLanes {
 [[gnu::always_inline]] inline void rk4_lanes(const StepMotion& motion, const PreparedMotion (&m)[3],
                                              const BlendLanes& in, int count, Lanes3& out) {
     const double h = motion.h;
+    const StageBases base(in, count, h);
     Lanes3 k, x, sum;
     deformation_velocities(m[0], count, in.one_minus_b, in.grad_b, in.position, k);  // k1
     std::copy_n(k.x, count, sum.x), std::copy_n(k.y, count, sum.y), std::copy_n(k.z, count, sum.z);
-    add_scaled(count, in.position, 0.5 * h, k, x);
+    add_scaled(count, *base.to_half, 0.5 * h, k, x);
     deformation_velocities(m[1], count, in.one_minus_b, in.grad_b, x, k);  // k2
     add_scaled(count, sum, 2.0, k, sum);
-    add_scaled(count, in.position, 0.5 * h, k, x);
+    add_scaled(count, *base.to_half, 0.5 * h, k, x);
     deformation_velocities(m[1], count, in.one_minus_b, in.grad_b, x, k);  // k3
     add_scaled(count, sum, 2.0, k, sum);
-    add_scaled(count, in.position, h, k, x);
+    add_scaled(count, *base.to_full, h, k, x);
     deformation_velocities(m[2], count, in.one_minus_b, in.grad_b, x, k);  // k4
     add_scaled(count, sum, 1.0, k, sum);
-    add_scaled(count, in.position, h / 6.0, sum, out);
+    add_scaled(count, *base.to_full, h / 6.0, sum, out);
 }
 
 // midpoint_rule() above for a block of blend lanes.
 [[gnu::always_inline]] inline void midpoint_lanes(const StepMotion& motion, const PreparedMotion (&m)[3],
                                                   const BlendLanes& in, int count, Lanes3& out) {
     const double h = motion.h;
+    const StageBases base(in, count, h);
     Lanes3 k, x;
     deformation_velocities(m[0], count, in.one_minus_b, in.grad_b, in.position, k);
-    add_scaled(count, in.position, 0.5 * h, k, x);
+    add_scaled(count, *base.to_half, 0.5 * h, k, x);
     deformation_velocities(m[1], count, in.one_minus_b, in.grad_b, x, k);
-    add_scaled(count, in.position, h, k, out);
+    add_scaled(count, *base.to_full, h, k, out);
 }
 
 bool is_finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
@@ -160,11 +188,11 @@ __attribute__((target_clones("avx2", "default")))
 #endif
 std::size_t
 step_block(const StepMotion& motion, Stepper stepper, const PreparedMotion (&m)[3], const RegionParts& parts,
-           const GradientRecords& gradients, const std::vector<Vec3>& from, std::size_t first, int n,
-           std::vector<Vec3>& to) {
+           const GradientRecords& gradients, const KeeperVelocity& keeper, const std::vector<Vec3>& from,
+           std::size_t first, int n, std::vector<Vec3>& to) {
     BlendLanes lanes;
     Lanes3 next;
-    lanes.gather(parts, first, n, gradients, from);
+    lanes.gather(parts, first, n, gradients, from, keeper);
     if (stepper == Stepper::rk4)
         rk4_lanes(motion, m, lanes, n, next);
     else
@@ -176,11 +204,32 @@ step_block(const StepMotion& motion, Stepper stepper, const PreparedMotion (&m)[
     return count;
 }
 
+// Σ v · a over the blend vertices blend[first .. first + n), v the field there
+// as step_block takes it and a = area_vectors[i].
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+double
+flux_block(const PreparedMotion& m, const RegionParts& parts, const GradientRecords& gradients,
+           const std::vector<Vec3>& at, const std::vector<Vec3>& area_vectors, std::size_t first, int n) {
+    BlendLanes lanes;
+    Lanes3 k;
+    lanes.gather(parts, first, n, gradients, at, {});
+    deformation_velocities(m, n, lanes.one_minus_b, lanes.grad_b, lanes.position, k);
+    double sum = 0.0;
+    for (int j = 0; j < n; ++j) {
+        const Vec3& a = area_vectors[first + j];
+        sum += k.x[j] * a.x + k.y[j] * a.y + k.z[j] * a.z;
+    }
+    return sum;
+}
+
 // One step (RK4 or the midpoint rule) of the inner and blend vertices from
 // `from` into `to`, with r = s and ∇r fixed over the step; returns how many it
 // moved to a non-finite position.
 std::size_t step_vertices(const StepMotion& motion, Stepper stepper, const RegionParts& parts,
-                          const GradientRecords& gradients, const std::vector<Vec3>& from, std::vector<Vec3>& to) {
+                          const GradientRecords& gradients, const KeeperVelocity& keeper, const std::vector<Vec3>& from,
+                          std::vector<Vec3>& to) {
     std::atomic<std::size_t> non_finite{0};
     const AffineStep rigid = rigid_step(motion, stepper);
     parallel_for(parts.inner.size(), [&](std::size_t first, std::size_t last) {
@@ -198,7 +247,7 @@ std::size_t step_vertices(const StepMotion& motion, Stepper stepper, const Regio
         std::size_t count = 0;
         for (std::size_t begin = first; begin < last; begin += kFieldLanes) {
             const int n = static_cast<int>(std::min<std::size_t>(kFieldLanes, last - begin));
-            count += step_block(motion, stepper, m, parts, gradients, from, begin, n, to);
+            count += step_block(motion, stepper, m, parts, gradients, keeper, from, begin, n, to);
         }
         non_finite += count;
     });
@@ -459,9 +508,9 @@ std::vector<Vec3> vertex_gradients(const GradientRecords& records, const std::ve
 }
 
 void predict_midpoints(const StepMotion& half, const RegionParts& parts, const GradientRecords& gradients,
-                       const std::vector<Vec3>& positions, std::vector<Vec3>& midpoints) {
+                       const std::vector<Vec3>& positions, std::vector<Vec3>& midpoints, const KeeperVelocity& keeper) {
     if (midpoints.size() != positions.size()) midpoints = positions;
-    step_vertices(half, Stepper::midpoint_rule, parts, gradients, positions, midpoints);
+    step_vertices(half, Stepper::midpoint_rule, parts, gradients, keeper, positions, midpoints);
 }
 
 StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
@@ -472,8 +521,30 @@ StepMotion StepMotion::sample(const InnerMotion& motion, double t, double h) {
 }
 
 std::size_t deformation_step(const StepMotion& motion, const RegionParts& parts, const GradientRecords& gradients,
-                             const std::vector<Vec3>& from, std::vector<Vec3>& to) {
-    return step_vertices(motion, Stepper::rk4, parts, gradients, from, to);
+                             const std::vector<Vec3>& from, std::vector<Vec3>& to, const KeeperVelocity& keeper) {
+    return step_vertices(motion, Stepper::rk4, parts, gradients, keeper, from, to);
+}
+
+double blend_flux(const MotionSample& sample, const RegionParts& parts, const GradientRecords& gradients,
+                  const std::vector<Vec3>& at, const std::vector<Vec3>& area_vectors) {
+    // Each block's sum into its own slot, then the slots in order: the same bits
+    // on any number of threads.
+    const PreparedMotion m(sample);
+    const std::size_t n = parts.blend.size(), blocks = (n + kFieldLanes - 1) / kFieldLanes;
+    std::vector<double> partial(blocks);
+    parallel_for(
+        blocks,
+        [&](std::size_t first, std::size_t last) {
+            for (std::size_t block = first; block < last; ++block) {
+                const std::size_t begin = block * kFieldLanes;
+                partial[block] = flux_block(m, parts, gradients, at, area_vectors, begin,
+                                            static_cast<int>(std::min<std::size_t>(kFieldLanes, n - begin)));
+            }
+        },
+        kParallelGrain / kFieldLanes);
+    double total = 0.0;
+    for (const double p : partial) total += p;
+    return total;
 }
 
 double rigid_step_error(const StepMotion& full, const StepMotion& first_half, const StepMotion& second_half,

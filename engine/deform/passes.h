@@ -100,16 +100,33 @@ struct StepMotion {
 // first, and integrating back retraces the way forward (see docs/method.md).
 // Writes the inner and blend vertices; the outer region does not move, so a new
 // `midpoints` array starts as a copy of `positions` and an old one must hold them.
+// The volume keeper's velocity on the blend region (deform/volume_keeper.h),
+// added to the field at every stage: λ (1 − b) b′(s) a / 6 at blend[i], a =
+// (*area_vectors)[i] its ring's area vector (6 ∂V/∂x); none without area vectors.
+struct KeeperVelocity {
+    double lambda = 0.0;
+    const std::vector<Vec3>* area_vectors = nullptr;
+};
+
+// `keeper`: the volume keeper's velocity (none by default).
 void predict_midpoints(const StepMotion& half, const RegionParts& parts, const GradientRecords& gradients,
-                       const std::vector<Vec3>& positions, std::vector<Vec3>& midpoints);
+                       const std::vector<Vec3>& positions, std::vector<Vec3>& midpoints,
+                       const KeeperVelocity& keeper = {});
 
 // Deformation pass: one RK4 step of every vertex along v + ṽ (eqs. 1–4, 9–14)
 // with r = s (the s that `parts` was made of) and ∇r = `gradients`, both held
 // fixed over the step, from `from` into `to` (they may be the same array). Only
 // the inner and blend vertices are written: the outer ones stay where `to` has
 // them (v = 0 there). Returns how many of them it moved to a non-finite position.
+// `keeper` as for predict_midpoints.
 std::size_t deformation_step(const StepMotion& motion, const RegionParts& parts, const GradientRecords& gradients,
-                             const std::vector<Vec3>& from, std::vector<Vec3>& to);
+                             const std::vector<Vec3>& from, std::vector<Vec3>& to, const KeeperVelocity& keeper = {});
+
+// Σ v · a over the blend vertices, v the field (v + ṽ) of `sample` at `at` with
+// ∇r = `gradients`, a = area_vectors[i] at blend[i]: the blend region's share of
+// 6 dV/dt (VolumeKeeper::rate).
+double blend_flux(const MotionSample& sample, const RegionParts& parts, const GradientRecords& gradients,
+                  const std::vector<Vec3>& at, const std::vector<Vec3>& area_vectors);
 
 // RK4's own error over a step on the inner region's rigid motion, by step
 // doubling: the largest distance between the step's map (`full`, from t by h)

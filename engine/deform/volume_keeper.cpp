@@ -1,6 +1,7 @@
 #include "deform/volume_keeper.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -48,11 +49,36 @@ VolumeKeeper::VolumeKeeper(const std::vector<Vec3>& rest, const std::vector<doub
             else fixed += glm::dot(rest[v] - centre_, glm::cross(rest[a] - centre_, rest[b] - centre_));
         }
     }
+    find_inner_border(s, rings);
     fixed_volume_ = fixed / 6.0;
     for (const std::uint32_t v : blend_)
         weight_.push_back((1.0 - bernstein_blend(s[v])) * bernstein_blend_derivative(s[v]));
     rest_volume_ = fixed_volume_ + moving_volume(rest);
     active_ = true;
+}
+
+// The inner region's triangles with a corner outside it, and the directed edges
+// (a → b, as a triangle of the inner region alone runs) between those triangles
+// and the others: rate() needs no more of the inner region.
+void VolumeKeeper::find_inner_border(const std::vector<double>& s, const VertexRings& rings) {
+    // The third corner of the triangle on the other side of a → b: the one that runs b → a.
+    const auto across = [&](std::uint32_t a, std::uint32_t b) {
+        for (std::uint32_t k = rings.begin(b); k < rings.end(b); ++k)
+            if (rings.wedge[k] && rings.neighbours[k] == a) return rings.neighbours[rings.next(b, k)];
+        return b;  // not reached on a surface whose every edge borders two triangles
+    };
+    for (const Triangle& t : moving_) {
+        const std::uint32_t c[3] = {t.x, t.y, t.z};
+        const int inner = (s[t.x] <= 0.0) + (s[t.y] <= 0.0) + (s[t.z] <= 0.0);
+        if (inner == 0) continue;
+        if (inner < 3) {
+            for (int i = 0; i < 3; ++i)
+                if (s[c[i]] <= 0.0) inner_terms_.push_back(Triangle(c[i], c[(i + 1) % 3], c[(i + 2) % 3]));
+            continue;
+        }
+        for (int i = 0; i < 3; ++i)
+            if (s[across(c[i], c[(i + 1) % 3])] > 0.0) inner_border_.push_back({c[i], c[(i + 1) % 3]});
+    }
 }
 
 bool VolumeKeeper::applies_to(const VertexRings& rings) {
@@ -80,6 +106,33 @@ double VolumeKeeper::moving_volume(const std::vector<Vec3>& p) const {
 
 double VolumeKeeper::volume(const std::vector<Vec3>& positions) const {
     return fixed_volume_ + moving_volume(positions);
+}
+
+double VolumeKeeper::rate(const std::vector<Vec3>& p, double blend_flux, const MotionSample& sample) const {
+    if (!active_) return 0.0;
+    // 6 dV/dt = Σ over triangles of d/dt (a − c) · ((b − c) × (d − c)), c the centre.
+    // Summed by corner: a blend vertex's terms are u · its ring area vector (the
+    // blend flux); an inner vertex's are taken per triangle where the triangle has
+    // a corner outside the inner region; a triangle of the inner region alone
+    // moves rigidly, and moving its tetrahedron's apex c along would keep the
+    // tetrahedron, so its rate is u(c) · ((b − a) × (d − a)): summed over the
+    // region, u(c) · Σ (a − c) × (b − c) over its border's edges a → b (the
+    // inner edges cancel). The outer region does not move.
+    double six_rate = blend_flux;
+    for (const Triangle& t : inner_terms_)
+        six_rate += glm::dot(inner_velocity(sample, p[t.x]), glm::cross(p[t.y] - centre_, p[t.z] - centre_));
+    Vec3 border(0.0);
+    for (const auto& [a, b] : inner_border_) border += glm::cross(p[a] - centre_, p[b] - centre_);
+    return (six_rate + glm::dot(inner_velocity(sample, centre_), border)) / 6.0;
+}
+
+double VolumeKeeper::lambda(double rate, const std::vector<Vec3>& area_vectors) const {
+    if (!active_) return 0.0;
+    const auto weighted_square = [&](std::size_t i) { return weight_[i] * glm::dot(area_vectors[i], area_vectors[i]); };
+    const double norm = parallel_sum(blend_.size(), weighted_square) / 36.0;  // Σ w |∂V/∂x|²
+    // None where the sums are not finite (a position already so, which the step
+    // then names; the keeper does not spread it over the blend region).
+    return norm > 0.0 && std::isfinite(norm) && std::isfinite(rate) ? -rate / norm : 0.0;
 }
 
 double VolumeKeeper::restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors) const {

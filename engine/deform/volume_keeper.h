@@ -5,18 +5,23 @@
 // The field is divergence-free, so its flow keeps every volume; the discrete
 // scheme does not quite (∇r is estimated per vertex, the surface is sampled at
 // its vertices), and the error grows with the deformation: on the scene battery
-// the median drift was 0.4 %, the worst 2 % (docs/method.md). After every step
-// one Newton step on the volume constraint moves the blend vertices along
-// w ∂V/∂x, w = (1 − b) b′(s): a smooth bump over the blend region that vanishes
-// where it meets the inner region (which stays rigid) and the outer region
-// (which stays put). ∂V/∂x_v is the one the step's normal pass found at the
-// step's midpoint (a sixth of the vertex's ring area vector, mesh/geometry.h):
-// no ring pass of its own, and what half a step's change of the rings leaves
-// of the drift is undone at the next step. The correction is reported, so the
-// field's own drift stays visible.
+// the median drift was 0.4 %, the worst 2 % (docs/method.md). That drift is the
+// field's, not the step's: it is the same at 100 steps and at 8000. So the keeper
+// adds a velocity to the field, u = λ w ∂V/∂x on the blend vertices, w = (1 − b)
+// b′(s): a smooth bump over the blend region that vanishes where it meets the
+// inner region (which stays rigid) and the outer region (which stays put). It is
+// held over the step, as ∇r is, where the step takes ∇r (its middle), with ∂V/∂x
+// the one the step's normal pass found there (a sixth of the vertex's ring area
+// vector, mesh/geometry.h) and λ such that dV/dt = 0 there (lambda(), from
+// rate()). After the step, one Newton step on the volume constraint along the
+// same w ∂V/∂x undoes what is left, the step's own error (restore()). Undoing
+// the whole drift after each step instead, a splitting, made the scheme first
+// order in time (docs/method.md, "The volume keeper inside the step"). The
+// correction is reported, so the field's own drift stays visible.
 
 #include <vector>
 
+#include "curve/inner_motion.h"
 #include "mesh/vertex_rings.h"
 
 namespace vfsd {
@@ -52,13 +57,29 @@ public:
     // blend vertex (a caller's bug, not the user's).
     double restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors) const;
 
+    // dV/dt of the mesh at `positions` moving with the field of `sample`: rigid
+    // on the inner region, v on the blend region, whose share of 6 dV/dt is
+    // `blend_flux` (deform/passes.h), 0 on the outer region.
+    double rate(const std::vector<Vec3>& positions, double blend_flux, const MotionSample& sample) const;
+    // λ of the keeper's velocity u = λ w ∂V/∂x on the blend vertices
+    // (KeeperVelocity, deform/passes.h), whose share of dV/dt cancels `rate`: a
+    // step that adds it to the field keeps the volume to its own order, so that
+    // restore() after it undoes only the step's error. area_vectors as for
+    // restore(), where `rate` was taken; 0 where a sum is not finite.
+    double lambda(double rate, const std::vector<Vec3>& area_vectors) const;
+
 private:
     double moving_volume(const std::vector<Vec3>& positions) const;
+    void find_inner_border(const std::vector<double>& s, const VertexRings& rings);
 
     bool active_ = false;
     std::vector<std::uint32_t> blend_;
     std::vector<double> weight_;   // w per blend vertex
-    std::vector<Triangle> moving_; // the triangles with a corner that moves (s < 1)
+    std::vector<Triangle> moving_;  // the triangles with a corner that moves (s < 1)
+    // For rate(): (v, a, b) per inner corner v of a triangle v → a → b with a
+    // corner outside the inner region, and the inner region's border.
+    std::vector<Triangle> inner_terms_;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> inner_border_;
     Vec3 centre_{0.0};             // volumes are summed about it: exact for a closed surface, and no cancellation far from the origin
     double rest_volume_ = 0.0, fixed_volume_ = 0.0;
 };

@@ -295,7 +295,10 @@ private:
     Try& try_for(double time, double h, double max_error) {
         if (try_ && try_->time == time && try_->h == h && try_->max_error == max_error) return *try_;
         if (try_ && try_->stage == Stage::move_issued) passes().discard_step();
-        if (try_ && (try_->stage == Stage::start_issued || try_->stage == Stage::estimate_issued)) fit_gauge();
+        if (try_ && (try_->stage == Stage::start_issued || try_->stage == Stage::estimate_issued)) {
+            fit_gauge();
+            issue_keeper_rate(try_->stage == Stage::start_issued ? At::positions : At::midpoints);
+        }
         try_.emplace();
         try_->time = time, try_->h = h, try_->max_error = max_error;
         return *try_;
@@ -317,6 +320,7 @@ private:
                 break;
             case Stage::start_issued:
                 fit_gauge();
+                issue_keeper_rate(At::positions);
                 if (midpoint)
                     issue_prediction(t);
                 else
@@ -324,6 +328,7 @@ private:
                 break;
             case Stage::estimate_issued:
                 fit_gauge();
+                issue_keeper_rate(At::midpoints);
                 t.result = estimate_error(t);
                 if (!t.result.taken) return;
                 issue_move(t);
@@ -386,6 +391,14 @@ private:
         passes().smooth_gradients(options_.smoothing_steps, options_.smoothing_weight, options_.tangent_smoothing);
         have_gradients_ = true;
         if (options_.fit_stream_gauge) passes().gather_gauge_samples(at);
+    }
+
+    // The keeper's velocity where ∇r was just estimated (CpuSteps::estimate_keeper_velocities).
+    void issue_keeper_rate(At at) {
+        if (!rest_->keep_volume) return;
+        MotionSample sample = motion_.at(gradient_time_);
+        if (options_.fit_stream_gauge) sample.gauge = gauge_fit_->gauge_for(sample);
+        passes().keeper_rate(at, sample);
     }
 
     // The gauge's fit to the samples gathered last (CpuSteps::fit_stream_gauge).

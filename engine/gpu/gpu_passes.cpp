@@ -189,8 +189,12 @@ void GpuPasses::draw_deformation(const StepMotion& motion, const Target& target,
     set_motion(deform_program_, "u_end", motion.end, origin_);
     deform_program_.set("u_h", static_cast<float>(motion.h));
     deform_program_.set("u_midpoint_rule", midpoint_rule ? 1 : 0);
+    deform_program_.set("u_keep_volume", keeper_rated_ ? 1 : 0);
+    deform_program_.set("u_keeper", kUnitExtra[0]);
+    if (keeper_rated_) keeper_sums_.back().texture.bind(kUnitExtra[0]);
     vertex_[current_].texture.bind(kUnitPositions);
     gradient_[current_gradient_].texture.bind(kUnitGradients);
+    normal_.texture.bind(kUnitNormals);
     draw(target);
 }
 
@@ -280,10 +284,14 @@ void GpuPasses::measure_rest_volume(const Vec3& centre) {
     volume_terms_ = make_target();
     volume_sums_ = sum_levels(layout_.width, layout_.height);
     rest_volume_sums_ = sum_levels(layout_.width, layout_.height);
+    keeper_sums_ = sum_levels(layout_.width, layout_.height);
+    keeper_rated_ = false;
     if (!sum_program_.id()) sum_program_ = fullscreen_program("sum pass", "sum.frag", false);
     if (!volume_program_.id()) volume_program_ = fullscreen_program("volume pass", "volume.frag", true);
     if (!keep_volume_program_.id())
         keep_volume_program_ = fullscreen_program("volume keeper pass", "keep_volume.frag", true);
+    if (!keeper_rate_program_.id())
+        keeper_rate_program_ = fullscreen_program("keeper rate pass", "keeper_rate.frag", true);
     sum_volume(rest_volume_sums_);
     check_gl("measuring the rest volume");
 }
@@ -296,6 +304,18 @@ void GpuPasses::sum_volume(const std::vector<Target>& levels) const {
     normal_.texture.bind(kUnitNormals);
     draw(volume_terms_);
     sum(volume_terms_.texture, levels);
+}
+
+void GpuPasses::keeper_rate(At at, const MotionSample& sample) {
+    if (keeper_sums_.empty()) return;
+    bind_mesh(keeper_rate_program_);
+    set_motion(keeper_rate_program_, "u_sample", sample, origin_);
+    source(at).bind(kUnitPositions);
+    normal_.texture.bind(kUnitNormals);
+    gradient_[current_gradient_].texture.bind(kUnitGradients);
+    draw(volume_terms_);
+    sum(volume_terms_.texture, keeper_sums_);
+    keeper_rated_ = true;
 }
 
 void GpuPasses::keep_volume() {

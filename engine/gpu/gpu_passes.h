@@ -13,7 +13,7 @@
 //   neighbour texture R32I     (neighbour << 1) | wedge flag, any valence
 //
 // Beyond sec. 5, the passes of the CPU's default scheme (deform/cpu_steps.h):
-// the gauge samples' gather, the volume keeper's sums and Newton step, and the
+// the gauge samples' gather, the volume keeper's sums, velocity and Newton step, and the
 // fold test; sums over the mesh are added up on the GPU (sum.frag) into one texel.
 //
 // Positions are float32 on the GPU (the CPU reference is double); docs/gpu.md
@@ -77,6 +77,11 @@ public:
     // along the area vectors of the last normal pass. No read-back.
     void measure_rest_volume(const Vec3& centre);
     void keep_volume();
+    // The keeper's velocity for the deformation passes that follow: the keeper
+    // rate pass at the positions or midpoints with the last normals and ∇r, the
+    // field of `sample` (VolumeKeeper::rate and lambda). None until the
+    // first, or without measure_rest_volume.
+    void keeper_rate(At at, const MotionSample& sample);
     // The fold test (FoldRepair::folded): the checks are uploaded once, their
     // triangles' corners mapped to this mesh's vertices by `to_vertex`; each count
     // is one read-back of a single texel.
@@ -145,8 +150,9 @@ private:
     Program gauge_samples_program_;
     Vec3 volume_centre_{0.0};  // relative to origin_
     Target volume_terms_;
-    std::vector<Target> volume_sums_, rest_volume_sums_;
-    Program volume_program_, keep_volume_program_;
+    std::vector<Target> volume_sums_, rest_volume_sums_, keeper_sums_;
+    bool keeper_rated_ = false;
+    Program volume_program_, keep_volume_program_, keeper_rate_program_;
     std::size_t fold_check_count_ = 0;
     Texture fold_triangles_, fold_checks_, fold_neighbours_;
     Target fold_flags_;
