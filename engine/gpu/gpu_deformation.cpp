@@ -393,7 +393,7 @@ private:
         if (options_.fit_stream_gauge) passes().gather_gauge_samples(at);
     }
 
-    // The keeper's velocity where ∇r was just estimated (CpuSteps::estimate_keeper_velocities).
+    // The keeper's velocity where ∇r was just estimated (CpuSteps::estimate_keeper_velocity).
     void issue_keeper_rate(At at) {
         if (!rest_->keep_volume) return;
         MotionSample sample = motion_.at(gradient_time_);
