@@ -131,13 +131,12 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
     if (test.verdict == FoldTest::land) return {false, result.error, false, test.land_at};
     positions_.swap(next_);
     input_order_current_ = false;
-    volume_restored_ += test.restored;
     if (test.verdict == FoldTest::repair) repair_folds(time, h, max_error, test.measured, result);
     return result;
 }
 
-// What follows the move in next_, before the step is taken: the volume drift
-// undone after every step, while it is small and smooth (restoring it every few
+// What follows the move in next_, before the step is taken: what the step left
+// of the volume drift undone after it, while it is small (restoring it every few
 // steps folded thin features; it is then part of the step's map, and a step back
 // undoes it as well), and at the fold repair's times the test the repair acts
 // on, which sees what the keeper's move folded too (a needle's corner pushed
@@ -150,7 +149,7 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
 // repair()'s own test.
 CpuSteps::FoldTest CpuSteps::settle_move(double time, double h, double max_error, bool test_all) {
     FoldTest test;
-    test.restored = std::abs(rest_->volume.restore(next_, area_vectors_));
+    rest_->volume.restore(next_, area_vectors_);
     if (!FoldRepair::repair_due(time, time + h)) return test;
     const bool affine_test = FoldRepair::affine_test_due(time, time + h);
     test.land_at = std::isfinite(max_error) ? FoldRepair::repair_time_within(time, time + h) : -1.0;
@@ -183,7 +182,7 @@ void CpuSteps::repair_folds(double time, double h, double max_error, bool measur
         if (!fold_repair_.acted() || !rest_->volume.active()) break;
         for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
             ring_area_vectors(positions_, rest_->rings, rest_->parts.blend, area_vectors_);
-            volume_restored_ += std::abs(rest_->volume.restore(positions_, area_vectors_));
+            rest_->volume.restore(positions_, area_vectors_);
         }
     }
 }
@@ -395,12 +394,6 @@ FoldRepairStats CpuSteps::fold_repairs() const {
     FoldRepairStats stats = fold_repair_.stats();
     stats.max_shift /= frame_.scale;  // in the input's units
     return stats;
-}
-
-double CpuSteps::volume_restored_percent() const {
-    return rest_ && rest_->volume.active() && rest_->volume.rest_volume() != 0.0
-               ? 100.0 * volume_restored_ / std::abs(rest_->volume.rest_volume())
-               : 0.0;
 }
 
 // Normal, gradient (eq. 6) and smoothing passes on the positions `at`.

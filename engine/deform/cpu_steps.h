@@ -77,10 +77,6 @@ public:
 
     // Bytes held by the deformation state: positions, work arrays, s, rings, region parts, the rest state.
     std::size_t state_bytes() const;
-    // The volume drift the keeper undid over all steps so far, in percent of the
-    // volume before (0 with keep_volume off or on an open surface): the error the
-    // field's discretisation alone would have left.
-    double volume_restored_percent() const;
 
 private:
     void check_finite(const std::vector<Vec3>& candidate, int step, double time) const;
@@ -92,7 +88,6 @@ private:
     struct FoldTest {
         enum Verdict { clean, land, repair } verdict = clean;
         double land_at = -1.0;  // land: the repair's time the step is tried again to end on
-        double restored = 0.0;  // |the volume drift| the keeper undid in next_
         bool measured = false;  // repair: the test's measures kept for the repair (FoldRepair::count_folds)
     };
     FoldTest settle_move(double time, double h, double max_error, bool test_all);
@@ -136,7 +131,6 @@ private:
     std::vector<Vec3> sample_gradients_;        // ∇r at the gauge's samples before this step's estimate
     std::optional<GaugeFit> gauge_fit_;         // the last step's fit (at its midpoints)
     FoldRepair fold_repair_;
-    double volume_restored_ = 0.0;  // Σ |drift undone|
     // The try prepare_step() estimated (and moved into next_, and tested there),
     // for the step() from the same time by the same h.
     struct PreparedTry {

@@ -16,8 +16,7 @@
 // rate()). After the step, one Newton step on the volume constraint along the
 // same w ∂V/∂x undoes what is left, the step's own error (restore()). Undoing
 // the whole drift after each step instead, a splitting, made the scheme first
-// order in time (docs/method.md, "The volume keeper inside the step"). The
-// correction is reported, so the field's own drift stays visible.
+// order in time (docs/method.md, "The volume keeper inside the step").
 
 #include <vector>
 
