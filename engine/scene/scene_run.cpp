@@ -1,6 +1,7 @@
 #include "scene/scene_run.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "deform/quality.h"
@@ -9,8 +10,15 @@
 namespace vfsd {
 namespace {
 
-constexpr int kChecks = 10;            // the folds are counted at every tenth of the way
+constexpr int kChecks = 10;            // the folds are counted at every tenth of unit time
 constexpr std::size_t kMaxGrowth = 2;  // a refined mesh has at most twice the input's vertices
+
+// The first time of the grid k / steps at or after `time`: where fixed steps
+// that pass `time` end (deform/deformation.cpp's grid, the same bits).
+double grid_time_at_or_after(double time, int steps) {
+    const double n = steps;
+    return std::ceil(time * n - 1e-9) / n;
+}
 
 // One run from t = 0 to the target time, its folds watched.
 SceneRun run_once(const PreparedScene& p, const StartDeformation& start, const RunProgress& progress, int refinements) {
@@ -21,15 +29,25 @@ SceneRun run_once(const PreparedScene& p, const StartDeformation& start, const R
     const int chunk = std::max(1, d.options().steps / 50);
     const double target = p.scene.target_time;
     const bool controlled = d.error_controlled();
-    for (int check = 1; check <= kChecks; ++check) {
-        // The folds are counted at every tenth: fixed steps advance to it in
-        // chunks (an asynchronous backend waits for its steps once per chunk);
-        // error-controlled ones run toward the target uncut, as in the editors,
-        // to the first time reached at or past it. Cut short at every tenth,
-        // they took more steps (the raised claw 37, not 32) and gave another
-        // result than the editors' run of the same scene.
-        const double time = check == kChecks ? target : target * check / kChecks;
-        while (d.time() < time && d.advance(controlled ? target : time, controlled ? 1 : chunk) > 0)
+    for (int check = 1;; ++check) {
+        // The folds are counted at every tenth of unit time short of the target,
+        // which are times the fold repair acts at (deform/fold_repair.h), and at
+        // the target, after the step that reaches at or past each: the steps are
+        // those of a run straight to the target, as in the editors. Fixed steps
+        // advance to their grid's first time at or past it, in chunks (an
+        // asynchronous backend waits for its steps once per chunk); error-
+        // controlled ones run toward the target uncut. Cut short at every tenth,
+        // error-controlled steps took more steps (the raised claw 37, not 32)
+        // and gave another result than the editors' run of the same scene; and
+        // counted at tenths of the way to a target short of 1 (0.06, 0.12, ...
+        // for 0.6), the folds the repair leaves between its times refined a
+        // scene that folds at none of them.
+        const double tenth = double(check) / kChecks;
+        const bool at_target = tenth >= target;
+        const double time = at_target ? target : tenth;
+        const double until =
+            controlled || at_target ? target : std::min(target, grid_time_at_or_after(time, d.options().steps));
+        while (d.time() < time && d.advance(until, controlled ? 1 : chunk) > 0)
             if (progress) progress(d, refinements);
         const std::vector<std::uint32_t> folded =
             flipped_triangle_list(p.file.mesh.positions, d.positions(), p.file.mesh.triangles);
@@ -41,9 +59,11 @@ SceneRun run_once(const PreparedScene& p, const StartDeformation& start, const R
         std::set_union(run.watch.folded.begin(), run.watch.folded.end(), folded.begin(), folded.end(),
                        std::back_inserter(all));
         run.watch.folded = std::move(all);
-        if (check == kChecks) run.watch.folded_at_end = folded.size();
+        if (at_target) {
+            run.watch.folded_at_end = folded.size();
+            return run;
+        }
     }
-    return run;
 }
 
 // The triangles that share a corner with one of `triangles` (they included): the

@@ -1,10 +1,11 @@
 #pragma once
 // A whole scene's run to its target time, as `vfsd deform` and `vfsd battery`
-// run it: the deformation advanced to the target (error-controlled steps uncut,
-// as the editors advance them), the folds counted at every tenth of the way (at
-// the first time an error-controlled step reaches at or past it;
-// deform/quality.h), and, where a triangle folded anyway, the mesh
-// refined at rest around it and the run started again from t = 0.
+// run it: the deformation advanced to the target in the steps of a run straight
+// there (as the editors advance it), the folds counted at every tenth of unit
+// time on the way, which are fold repair times, and at the target (after the
+// step that reaches at or past each; deform/quality.h), and, where a triangle
+// folded anyway, the mesh refined at rest around it and the run started again
+// from t = 0.
 //
 // Beyond the paper (docs/method.md, "Refining where a triangle folds"): the
 // flow's map is smooth and one-to-one, but the mesh shows it through flat
@@ -31,7 +32,7 @@ namespace vfsd {
 struct FoldWatch {
     int first_step = -1;  // the steps taken when a fold was first counted (−1: never)
     double first_time = -1.0;
-    std::vector<std::uint32_t> folded;  // every triangle counted folded at some tenth, ascending
+    std::vector<std::uint32_t> folded;  // every triangle counted folded at some tenth or the target, ascending
     std::size_t folded_at_end = 0;      // those folded at the target time
 };
 
@@ -39,7 +40,7 @@ struct FoldWatch {
 struct RunTried {
     std::size_t vertices = 0;
     std::size_t folded_at_end = 0;
-    std::size_t folded_over_tenths = 0;  // at some tenth of the way
+    std::size_t folded_over_tenths = 0;  // at some tenth of unit time on the way, or at the target
 };
 
 struct SceneRun {
