@@ -3,6 +3,7 @@
 // takes them as the CPU does; a scene file chooses them unless it gives steps.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <random>
 
@@ -196,24 +197,27 @@ TEST_CASE("vfsd deform's run takes the steps a run straight to the target takes,
     }
 }
 
-TEST_CASE("vfsd deform's run of fixed steps to any target takes the steps a run straight to the target takes",
+TEST_CASE("vfsd deform's run to any target takes the steps a run straight to the target takes",
           "[deformation][step-control][scene]") {
     // run_scene counts the folds at every tenth of unit time and at the target.
     // It counted them at tenths of the way instead, and fixed steps advanced to
     // each: to a target short of 1, or on a grid that does not meet the tenths,
     // they cut steps there (0.3 of 50 steps a unit took 20 steps, not 15) and
-    // gave another shape than the editors' run. Targets and step counts drawn
-    // at random, the refinement off so that the runs compare.
+    // gave another shape than the editors' run. Targets, fixed step counts and
+    // tolerances drawn at random, the refinement off so that the runs compare.
     std::mt19937 random(31);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     for (const Scene& scene : small_scenes()) {
-        for (int trial = 0; trial < 3; ++trial) {
+        for (int trial = 0; trial < 4; ++trial) {
             PreparedScene p = prepare_scene(scene);
-            p.scene.options.tolerance = 0.0;
+            const bool controlled = trial % 2 == 1;
+            p.scene.options.tolerance = controlled ? std::pow(10.0, -3.0 - unit(random)) : 0.0;
             p.scene.options.steps = 20 + static_cast<int>(unit(random) * 60.0);
             p.scene.options.fold_refinements = 0;
-            p.scene.target_time = trial == 0 ? 1.0 : 0.05 + 0.9 * unit(random);
-            INFO(scene.mesh << ": " << p.scene.options.steps << " steps a unit, to t = " << p.scene.target_time);
+            p.scene.target_time = trial < 2 ? 1.0 : 0.05 + 0.9 * unit(random);
+            INFO(scene.mesh << ": " << (controlled ? "tolerance " : "fixed steps a unit ")
+                            << (controlled ? p.scene.options.tolerance : p.scene.options.steps)
+                            << ", to t = " << p.scene.target_time);
             const SceneRun watched = run_scene(p);
             const Outcome straight = run(p, p.scene.options, false, p.scene.target_time);
             CHECK(watched.deformation->time() == p.scene.target_time);
