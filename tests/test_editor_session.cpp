@@ -506,3 +506,45 @@ TEST_CASE(
         CHECK(in_parts.positions() == at_once.positions());
     }
 }
+
+TEST_CASE("EditorSession: scrubbing back across the fold repair shows the way out's shapes once it gets there",
+          "[editor][session][repair]") {
+    // The deformation starts again from rest to go back across a step the
+    // repair acted after (Deformation::advance); the shape on show stays until
+    // it reaches the new time, then it is the way out's shape there, and at
+    // t = 0 the mesh as it was.
+    Scene scene = test::folding_box_scene();  // folds without the repair
+    scene.options.repair_folds = true;
+    scene.options.tolerance = 5e-4;
+    scene.target_time = 0.0;
+    EditorSession session;
+    session.open_scene(scene);
+    std::vector<std::pair<double, std::vector<Vec3>>> way_out;
+    session.set_target_time(1.0);
+    while (session.moving()) {
+        session.update(1);
+        way_out.emplace_back(session.time(), session.positions());
+    }
+    REQUIRE(session.deformation()->fold_repairs().steps_repaired > 0);
+    const std::vector<Vec3> at_end = session.positions();
+    for (const std::size_t k : {way_out.size() / 2, way_out.size() / 5}) {
+        const auto& [time, shape] = way_out[k];
+        INFO("back to t = " << time);
+        const std::vector<Vec3> shown = session.positions();
+        session.set_target_time(time);
+        REQUIRE(session.holding_result());
+        session.update(1);
+        CHECK(session.positions() == shown);  // the run is on its way from rest
+        run_to_target(session);
+        CHECK_FALSE(session.holding_result());
+        CHECK(session.positions() == shape);
+    }
+    const std::uint64_t revision = session.positions_revision();
+    session.set_target_time(0.0);
+    run_to_target(session);
+    CHECK(session.positions() == session.base_positions());
+    CHECK(session.positions_revision() != revision);  // drawn again
+    session.set_target_time(1.0);
+    run_to_target(session);
+    CHECK(session.positions() == at_end);
+}

@@ -401,3 +401,47 @@ TEST_CASE("the fold repair unfolds a needle turned over by its tiny height, movi
         CHECK(glm::length(x[v] - image) < 0.5 * glm::length(map(rest[b]) - map(rest[a])));
     }
 }
+
+TEST_CASE("scrubbing back across the fold repair shows the way out's shapes, and t = 0 the rest positions",
+          "[deform][repair][steps]") {
+    // A step back does not undo the repair: scrubbing back on a scene the repair
+    // acted on had ended 3e-2 of its size from the way out's shape, and 8e-2
+    // from rest at t = 0. The deformation now starts again from rest and repeats
+    // the way out's steps and tries: its bits, at fixed and controlled steps.
+    Scene scene = test::folding_box_scene();  // folds without the repair
+    scene.options.repair_folds = true;
+    std::mt19937 random(41);
+    for (const double tolerance : {0.0, 5e-4}) {
+        for (const int steps : {40, 37}) {
+            scene.options.steps = steps;
+            scene.options.tolerance = tolerance;
+            const PreparedScene p = prepare_scene(scene);
+            Deformation d = p.start_deformation();
+            std::vector<std::pair<double, std::vector<Vec3>>> way_out{{0.0, d.positions()}};
+            while (d.time() < 1.0) {
+                d.advance(1.0, 1);
+                way_out.emplace_back(d.time(), d.positions());
+            }
+            INFO((tolerance > 0.0 ? "error-controlled" : "fixed")
+                 << ", " << way_out.size() - 1 << " steps, " << d.fold_repairs().steps_repaired << " repaired");
+            REQUIRE(d.fold_repairs().steps_repaired > 0);
+            const double size = centred_diameter(p.file.mesh.positions);
+            // Back and forth to times of the way out, drawn at random, and back to 0.
+            for (int k = 0; k < 6; ++k) {
+                const auto& [time, shape] =
+                    way_out[std::uniform_int_distribution<std::size_t>(0, way_out.size() - 1)(random)];
+                d.advance(time);
+                REQUIRE(d.time() == time);
+                double apart = 0.0;
+                for (std::size_t v = 0; v < shape.size(); ++v)
+                    apart = std::max(apart, glm::length(d.positions()[v] - shape[v]));
+                INFO("at t = " << time << ": " << apart / size << " of the size from the way out");
+                CHECK(d.positions() == shape);
+            }
+            d.advance(0.0);
+            CHECK(d.positions() == p.file.mesh.positions);
+            d.advance(1.0);
+            CHECK(d.positions() == way_out.back().second);
+        }
+    }
+}

@@ -22,6 +22,7 @@
 #include "scene/battery.h"
 #include "scene/prepared_scene.h"
 #include "scene/scene_run.h"
+#include "test_fold_support.h"
 #include "test_gpu_support.h"
 #include "test_io_support.h"
 
@@ -469,4 +470,37 @@ TEST_CASE("a GPU deformation takes the last one's set-up from the shelf, the sam
     elsewhere_fresh.advance(1.0);
     CHECK(elsewhere.positions() == elsewhere_fresh.positions());
     CHECK(test::max_distance(elsewhere.positions(), first) > 0.0);  // the region made a difference
+}
+
+TEST_CASE("GPU: scrubbing back across the fold repair shows the way out's shapes, and t = 0 the rest positions",
+          "[gpu][repair][steps]") {
+    VFSD_REQUIRE_GPU_CONTEXT();
+    // As on the CPU (tests/test_fold_repair.cpp): the deformation starts again
+    // from rest and repeats the way out's steps and tries.
+    Scene scene = test::folding_box_scene();  // folds without the repair
+    scene.options.repair_folds = true;
+    for (const double tolerance : {0.0, 5e-4}) {
+        scene.options.tolerance = tolerance;
+        const PreparedScene p = prepare_scene(scene);
+        Deformation d = gpu::make_gpu_deformation(p.file.mesh.positions, p.rings, p.region, p.motion, scene.options);
+        std::vector<std::pair<double, std::vector<Vec3>>> way_out;
+        while (d.time() < 1.0) {
+            d.advance(1.0, 1);
+            way_out.emplace_back(d.time(), d.positions());
+        }
+        INFO((tolerance > 0.0 ? "error-controlled" : "fixed")
+             << ", " << way_out.size() << " steps, " << d.fold_repairs().steps_repaired << " repaired");
+        REQUIRE(d.fold_repairs().steps_repaired > 0);
+        for (const std::size_t k : {way_out.size() / 2, way_out.size() / 5, way_out.size() - 2}) {
+            INFO("back to t = " << way_out[k].first);
+            d.advance(way_out[k].first);
+            CHECK(d.positions() == way_out[k].second);
+        }
+        d.advance(0.0);  // the rest positions as the float textures hold them, as a fresh deformation's
+        const Deformation fresh =
+            gpu::make_gpu_deformation(p.file.mesh.positions, p.rings, p.region, p.motion, scene.options);
+        CHECK(d.positions() == fresh.positions());
+        d.advance(1.0);
+        CHECK(d.positions() == way_out.back().second);
+    }
 }

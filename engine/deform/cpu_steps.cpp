@@ -106,6 +106,19 @@ void CpuSteps::start_from_rest() {
     }
 }
 
+// As a deformation from the rest state starts (the constructor above), once
+// the first step has built it (with midpoint gradients, estimated ∇r at rest);
+// the sphere tool, whose region moves with the positions, has none.
+bool CpuSteps::restarts() const {
+    return rest_ && !region_.sphere_tool && (rest_->estimated || !options_.gradients_at_midpoint);
+}
+
+void CpuSteps::restart() {
+    prepared_.reset();
+    input_order_current_ = false;
+    start_from_rest();
+}
+
 std::shared_ptr<const CpuRest> CpuSteps::cpu_rest() const {
     if (!rest_ || !rest_->keepers_built || (options_.gradients_at_midpoint && !rest_->estimated)) return nullptr;
     return rest_;

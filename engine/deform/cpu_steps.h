@@ -74,6 +74,8 @@ public:
     const std::vector<Vec3>& positions() const override;
     FoldRepairStats fold_repairs() const override;
     std::shared_ptr<const CpuRest> cpu_rest() const override;
+    bool restarts() const override;
+    void restart() override;
 
     // Bytes held by the deformation state: positions, work arrays, s, rings, region parts, the rest state.
     std::size_t state_bytes() const;

@@ -103,18 +103,66 @@ double Deformation::max_error(double next, bool controlled) const {
     return controlled && !shortest ? options_.tolerance : std::numeric_limits<double>::infinity();
 }
 
+// A step back cannot undo the fold repair: back across a step it acted after
+// (scrubbing back, on a scene that folded, had ended 3e-2 of the size from the
+// way out's shape, and 8e-2 from rest at t = 0), the backend starts again from
+// rest and the steps forward along the times reached repeat the way out. Back
+// to t = 0 too, for the rest positions bit for bit. Where the backend cannot
+// start again, it steps back.
+bool Deformation::rewinds_to(double target) const {
+    target = std::clamp(target, 0.0, 1.0);
+    if (target == time_ || (target > time_ && !stepped_back_) || !backend_->restarts()) return false;
+    if (target == 0.0) return true;
+    // A repair between the two times: after it on the way out, a step back
+    // cannot undo it; before it, the repair would act on positions a step back
+    // left a little off the way out's, and can tip to another shape.
+    const double low = std::min(target, time_), high = std::max(target, time_);
+    const auto after_low = std::upper_bound(repaired_.begin(), repaired_.end(), low);
+    return after_low != repaired_.end() && *after_low <= high;
+}
+
+void Deformation::rewind(double target) {
+    if (!rewinds_to(target)) return;
+    backend_->restart();
+    time_ = 0.0;
+    steps_taken_ = 0;
+    repeat_ = tries_.empty() ? std::string::npos : 0;
+    stepped_back_ = false;
+}
+
+Deformation::NextStep Deformation::next_step(double target) const {
+    if (repeat_ < tries_.size() && target > time_) {
+        const StepTry& t = tries_[repeat_];
+        const double end = t.time + t.length;
+        // A try the way out did not take is repeated past the target too: it
+        // moves nothing, and leaves its ∇r to the step that follows it.
+        if (t.time == time_ && (end <= target || !t.taken)) {
+            const bool shortest = t.length <= StepControl::kShortestStep;
+            return {end, shortest ? std::numeric_limits<double>::infinity() : options_.tolerance, false, true};
+        }
+    }
+    NextStep n;
+    n.end = next_time(target, n.controlled);
+    n.max_error = max_error(n.end, n.controlled);
+    return n;
+}
+
 StepPiece Deformation::prepare_step(double target) {
     target = std::clamp(target, 0.0, 1.0);
-    if (time_ == target) return StepPiece::none;
+    // Starting again from rest shows other positions: advance() does it.
+    if (time_ == target || rewinds_to(target)) return StepPiece::none;
     const auto start = std::chrono::steady_clock::now();
-    bool controlled = false;
-    const double next = next_time(target, controlled);
-    const std::optional<StepResult> piece =
-        backend_->prepare_step(time_, next - time_, steps_taken_ + 1, max_error(next, controlled));
+    const NextStep n = next_step(target);
+    const std::optional<StepResult> piece = backend_->prepare_step(time_, n.end - time_, steps_taken_ + 1, n.max_error);
     if (!piece) return StepPiece::none;
     if (!first_piece_) first_piece_ = start;
     if (piece->waiting) return StepPiece::waiting;
-    if (!piece->taken) note_step(next, controlled, *piece);  // as advance() notes a try over the tolerance
+    if (!piece->taken) {  // as advance() notes a try over the tolerance
+        if (n.repeated)
+            ++repeat_;
+        else
+            note_step(n.end, n.controlled, *piece);
+    }
     prepared_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return StepPiece::done;
 }
@@ -151,12 +199,12 @@ void Deformation::note_step(double next, bool controlled, const StepResult& resu
 bool Deformation::next_step_tests_affine(double target) const {
     target = std::clamp(target, 0.0, 1.0);
     if (time_ == target || !options_.repair_folds) return false;
-    bool controlled = false;
-    return FoldRepair::affine_test_due(time_, next_time(target, controlled));
+    return FoldRepair::affine_test_due(time_, next_step(target).end);
 }
 
 int Deformation::advance(double target, int max_steps, double budget_ms, bool stop_before_affine_test) {
     target = std::clamp(target, 0.0, 1.0);
+    rewind(target);
     using Clock = std::chrono::steady_clock;
     const auto milliseconds = [](Clock::time_point since) {
         return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
@@ -166,11 +214,20 @@ int Deformation::advance(double target, int max_steps, double budget_ms, bool st
     int taken = 0;
     while (taken < max_steps && time_ != target) {
         if (taken > 0 && stop_before_affine_test && next_step_tests_affine(target)) break;
-        bool controlled = false;
-        const double next = next_time(target, controlled);
-        const StepResult result = backend_->step(time_, next - time_, steps_taken_ + 1, max_error(next, controlled));
-        note_step(next, controlled, result);
+        const NextStep n = next_step(target);
+        const double next = n.end;
+        const std::size_t repairs = backend_->fold_repairs().steps_repaired;
+        const StepResult result = backend_->step(time_, next - time_, steps_taken_ + 1, n.max_error);
+        if (n.repeated)
+            ++repeat_;
+        else
+            note_step(next, n.controlled, result);
         if (!result.taken) continue;  // tried again shorter; its time counts to the step taken
+        if (next < time_) stepped_back_ = true;
+        if (next > time_ && backend_->fold_repairs().steps_repaired != repairs) {
+            const auto at = std::lower_bound(repaired_.begin(), repaired_.end(), next);
+            if (at == repaired_.end() || *at != next) repaired_.insert(at, next);
+        }
         time_ = next;
         ++steps_taken_;
         ++taken;

@@ -15,6 +15,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "base/error.h"
@@ -199,6 +200,11 @@ public:
     // What a later CPU deformation of the same mesh, region and options may start
     // from (deform/cpu_steps.h), once built: null until then, and on the GPU.
     virtual std::shared_ptr<const CpuRest> cpu_rest() const { return nullptr; }
+    // Whether restart() can go back to the rest positions and the state a
+    // deformation starts from, so that the steps forward from t = 0 repeat the
+    // way out: not on the GPU or for the sphere tool, which then step back.
+    virtual bool restarts() const { return false; }
+    virtual void restart() {}
 };
 
 class Deformation {
@@ -214,7 +220,12 @@ public:
     Deformation(std::shared_ptr<const CpuRest> rest, InnerMotion motion, DeformationOptions options);
 
     // Integrates toward `target` (clamped to [0,1]) taking at most `max_steps`
-    // steps; returns the number taken. A backend that waits for its steps (the
+    // steps; returns the number taken. Back across a time after which the fold
+    // repair moved vertices, which no step back undoes, forward across one from
+    // positions that steps back gave, and back to t = 0, it starts again from
+    // rest where the backend can (StepBackend::restart) and repeats the way
+    // out's steps and tries: its shapes, bit for bit, and at t = 0 the rest
+    // positions. A backend that waits for its steps (the
     // CPU) also stops after the first step taken that ends `budget_ms` or more
     // after the call (the tries rejected before it included): at least one step,
     // and the same steps however the calls divide them. Throws NumericalError
@@ -225,6 +236,8 @@ public:
     // steps (next_step_tests_affine), so that a caller can run that one in pieces.
     int advance(double target, int max_steps = 1 << 30, double budget_ms = std::numeric_limits<double>::infinity(),
                 bool stop_before_affine_test = false);
+    // Whether advance(target) starts again from rest (above).
+    bool rewinds_to(double target) const;
     // Whether the next step toward `target` passes a time of the fold repair's
     // affine test (FoldRepair::affine_test_due), where a step takes about two
     // to three times as long as others.
@@ -267,9 +280,23 @@ private:
     double next_time(double target, bool& controlled) const;
     double max_error(double next, bool controlled) const;
     void note_step(double next, bool controlled, const StepResult& result);
+    void rewind(double target);
+    // The next step toward `target`: where it ends, its bound, whether it is a
+    // controlled step, and whether it repeats a try of the way out (rewind).
+    struct NextStep {
+        double end = 0.0, max_error = 0.0;
+        bool controlled = false, repeated = false;
+    };
+    NextStep next_step(double target) const;
 
     double time_ = 0.0;
     int steps_taken_ = 0;
+    std::vector<double> repaired_;  // the ends of the steps forward the fold repair acted after, ascending
+    // After a rewind, the next of tries_ to repeat: the way out's tries, the
+    // rejected ones too (each leaves its ∇r to the next), so that the steps
+    // repeat its bits; none (npos) once a try does not start where it did.
+    std::size_t repeat_ = std::string::npos;
+    bool stepped_back_ = false;  // the positions come from steps back, not from the way out
     // The error-controlled schedule: every time reached forward, ascending (0
     // first); a step forward from grid_.back() is controlled, any other step
     // runs between the times already on it.

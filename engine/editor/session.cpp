@@ -255,7 +255,7 @@ void EditorSession::replace_document(Document doc) {
     base_moved_stats();
     stats_.vertices = doc_.file.mesh.vertex_count();
     stats_.triangles = doc_.file.mesh.triangle_count();
-    held_.reset();
+    held_.reset(), held_for_rewind_ = false;
     drop_deformation();
     rest_.reset();  // of another mesh: freed now, not when the next run starts
     changed(mesh_replaced);
@@ -603,7 +603,7 @@ double EditorSession::time() const { return deformation_ ? deformation_->time() 
 void EditorSession::set_target_time(double t) { set_target(std::clamp(t, 0.0, 1.0)); }
 
 void EditorSession::set_target(double t) {
-    if (held_) {  // a new target: show the way there, with its stats
+    if (held_ && !held_for_rewind_) {  // a new target: show the way there, with its stats
         held_.reset();
         changed(positions_moved);
         if (deformation_)
@@ -613,6 +613,13 @@ void EditorSession::set_target(double t) {
     }
     if (t == doc_.scene.target_time) return;
     doc_.scene.target_time = t;
+    // Back across a step the fold repair acted after, the deformation starts
+    // again from rest and steps forward to t (Deformation::advance): the shape
+    // on show stays until it gets there.
+    if (deformation_ && !held_ && deformation_->rewinds_to(t)) {
+        held_ = deformation_->positions();
+        held_for_rewind_ = true;
+    }
     changed(target_moved);
 }
 
@@ -639,6 +646,7 @@ void EditorSession::set_force_cpu(bool cpu) {
 // ended in (or, after edits in quick succession, the last one that ended).
 void EditorSession::restart_after_edit() {
     if (deformation_ && !held_ && time() > 0.0 && !moving()) held_ = deformation_->positions();
+    held_for_rewind_ = false;  // what is held is now the edit's
     drop_deformation();
 }
 
@@ -711,9 +719,12 @@ int EditorSession::update(int max_steps, double budget_ms, bool stop_before_affi
     int taken = 0;
     run_step([&] {
         ensure_deformation();
+        const double before = time();
+        const bool held = held_.has_value();
         taken = deformation_->advance(target_time(), max_steps, budget_ms, stop_before_affine_test);
-        if (!moving()) held_.reset();  // the edit's result is ready
-        if (taken > 0) {
+        if (!moving()) held_.reset(), held_for_rewind_ = false;  // the edit's (or the way back's) result is ready
+        // Back to t = 0 from rest takes no step, but the positions changed.
+        if (taken > 0 || time() != before || held != held_.has_value()) {
             changed(positions_moved);
             update_stats();
         }
@@ -799,7 +810,7 @@ std::vector<std::string> EditorSession::warnings() const {
 
 void EditorSession::apply() {
     if (!deformation_ || time() == 0.0) return;
-    held_.reset();  // what is baked is the deformation at time()
+    held_.reset(), held_for_rewind_ = false;  // what is baked is the deformation at time()
     BakeChange bake;
     bake.before = doc_.file.mesh.positions;
     bake.after = positions();
@@ -847,7 +858,7 @@ void EditorSession::apply_edit(const Edit& edit, bool forward) {
         doc_.baked = forward ? true : b->baked_before;
         doc_.region = forward ? b->region_after : b->region_before;
         doc_.scene.motion = forward ? b->motion_after : b->motion_before;
-        held_.reset();  // new base positions: nothing of the last run stays on show
+        held_.reset(), held_for_rewind_ = false;  // new base positions: nothing of the last run stays on show
         drop_deformation();
         rest_.reset();
         diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();

@@ -349,6 +349,7 @@ private:
     // when the mesh, the region and the options are the same (deform/cpu_steps.h).
     std::shared_ptr<const CpuRest> rest_;
     std::optional<std::vector<Vec3>> held_;  // positions() while an edit's run catches up (restart_after_edit)
+    bool held_for_rewind_ = false;           // or a run started again from rest catches up (set_target)
     SessionStats stats_;
     std::uint64_t revision_ = 1, mesh_revision_ = 1, curve_revision_ = 1, document_revision_ = 1;
     std::uint64_t positions_revision_ = 1;

@@ -158,6 +158,25 @@ public:
     }
     FoldRepairStats fold_repairs() const override { return fold_repair_.stats(); }
 
+    // Back to where the constructor leaves a deformation that takes a kept
+    // set-up (the same steps as a fresh one's, bit for bit): the rest positions,
+    // ∇r zero, and this run's state dropped.
+    bool restarts() const override { return set_up_done(); }
+    void restart() override {
+        if (try_ && try_->stage == Stage::move_issued) passes().discard_step();
+        try_.reset();
+        passes().set_positions(rest_->positions);
+        passes().set_gradients(std::vector<Vec3>(rest_->positions.size(), Vec3(0.0)));
+        have_gradients_ = false;
+        gradient_time_ = 0.0;
+        positions_valid_ = false;
+        sample_positions_.clear();
+        sample_gradients_.clear();
+        gauge_fit_.reset();
+        fold_repair_ = rest_->fold_repair;
+        folds_tested_ = false;
+    }
+
     // With the stream gauge's fit, whose samples it reads back anyway, the step
     // estimates its error as the CPU's does (CpuSteps::estimate_error).
     bool estimates_error() const override { return options_.fit_stream_gauge && options_.gradients_at_midpoint; }
