@@ -191,7 +191,11 @@ void GpuPasses::draw_deformation(const StepMotion& motion, const Target& target,
     deform_program_.set("u_midpoint_rule", midpoint_rule ? 1 : 0);
     deform_program_.set("u_keep_volume", keeper_rated_ ? 1 : 0);
     deform_program_.set("u_keeper", kUnitExtra[0]);
-    if (keeper_rated_) keeper_sums_.back().texture.bind(kUnitExtra[0]);
+    // Without the keeper's sums the sampler still needs a texture the pass does
+    // not write: what an earlier pass left on its unit can be this pass's
+    // target, and WebGL refuses that draw as a feedback loop (the page's GPU
+    // path stopped at its first step with the keeper off).
+    (keeper_rated_ ? keeper_sums_.back().texture : normal_.texture).bind(kUnitExtra[0]);
     vertex_[current_].texture.bind(kUnitPositions);
     gradient_[current_gradient_].texture.bind(kUnitGradients);
     normal_.texture.bind(kUnitNormals);
