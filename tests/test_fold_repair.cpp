@@ -445,3 +445,34 @@ TEST_CASE("scrubbing back across the fold repair shows the way out's shapes, and
         }
     }
 }
+
+TEST_CASE("past the way out's end, a run scrubbed back and forth goes on as one that was not",
+          "[deform][repair][steps]") {
+    // After the way back repeats the way out's tries, the steps beyond its last
+    // time are new tries, as in a run that never went back: the same bits. (Back
+    // to a time between two of the way out's, a step is cut to reach it, and
+    // the run forward from there leaves the way out within its tolerance.)
+    Scene scene = test::folding_box_scene();  // folds without the repair
+    scene.options.repair_folds = true;
+    scene.options.tolerance = 5e-4;
+    const PreparedScene p = prepare_scene(scene);
+    Deformation scrubbed = p.start_deformation(), straight = p.start_deformation();
+    std::vector<double> way_out;
+    while (scrubbed.time() < 0.6) {
+        scrubbed.advance(0.6, 1);
+        way_out.push_back(scrubbed.time());
+    }
+    straight.advance(0.6);
+    REQUIRE(scrubbed.fold_repairs().steps_repaired > 0);
+    for (const double share : {0.5, 0.75, 0.2}) {
+        const double t = way_out[static_cast<std::size_t>(share * double(way_out.size()))];
+        REQUIRE(scrubbed.rewinds_to(t));
+        scrubbed.advance(t);
+        scrubbed.advance(0.6);
+    }
+    scrubbed.advance(1.0);
+    straight.advance(1.0);
+    CHECK(scrubbed.step_errors().rejected == straight.step_errors().rejected);
+    CHECK(scrubbed.step_tries().size() == straight.step_tries().size());
+    CHECK(scrubbed.positions() == straight.positions());
+}

@@ -153,6 +153,7 @@ StepPiece Deformation::prepare_step(double target) {
     if (time_ == target || rewinds_to(target)) return StepPiece::none;
     const auto start = std::chrono::steady_clock::now();
     const NextStep n = next_step(target);
+    if (!n.repeated) repeat_ = std::string::npos;  // off the way out: its tries no longer follow
     const std::optional<StepResult> piece = backend_->prepare_step(time_, n.end - time_, steps_taken_ + 1, n.max_error);
     if (!piece) return StepPiece::none;
     if (!first_piece_) first_piece_ = start;
@@ -218,10 +219,12 @@ int Deformation::advance(double target, int max_steps, double budget_ms, bool st
         const double next = n.end;
         const std::size_t repairs = backend_->fold_repairs().steps_repaired;
         const StepResult result = backend_->step(time_, next - time_, steps_taken_ + 1, n.max_error);
-        if (n.repeated)
+        if (n.repeated) {
             ++repeat_;
-        else
+        } else {
+            repeat_ = std::string::npos;  // off the way out: its tries no longer follow
             note_step(next, n.controlled, result);
+        }
         if (!result.taken) continue;  // tried again shorter; its time counts to the step taken
         if (next < time_) stepped_back_ = true;
         if (next > time_ && backend_->fold_repairs().steps_repaired != repairs) {
