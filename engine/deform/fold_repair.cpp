@@ -240,8 +240,6 @@ glm::dmat3 joint_moment(const Triangle& t, const std::vector<Vec3>& rest, const 
     return product - glm::outerProduct(sum_y, sum_p) / count;
 }
 
-glm::dmat3 symmetric(const double (&m)[6]) { return glm::dmat3(m[0], m[1], m[2], m[1], m[3], m[4], m[2], m[4], m[5]); }
-
 }  // namespace
 
 // The fit of at_rest_->check entry i's stars minimises Σ |A pᵢ − qᵢ|² + λ |A n − m|² over
@@ -252,6 +250,8 @@ glm::dmat3 symmetric(const double (&m)[6]) { return glm::dmat3(m[0], m[1], m[2],
 // solution A = (Σ qᵢ pᵢᵀ + λ m nᵀ) (Σ pᵢ pᵢᵀ + λ n nᵀ)⁻¹ has its inverse fixed at
 // rest, and on flat stars A's action on their plane, all a triangle's image
 // needs, is the points' own least squares: any affine map is found exactly.
+// The test needs A only on the triangle's edges u and w at rest, so what is
+// kept is S u and S w, S the inverse, and their parts along n.
 void FoldRepair::prepare_affine_test(const VertexRings& rings) {
     at_rest_->fit_of.assign(at_rest_->rest.size(), kNone);
     for (const std::uint32_t i : at_rest_->check)
@@ -285,8 +285,9 @@ void FoldRepair::prepare_affine_test(const VertexRings& rings) {
             const glm::dmat3 regularised = moment + weight * glm::outerProduct(normal, normal);
             if (!(glm::determinant(regularised) != 0.0)) continue;
             const glm::dmat3 inverse = glm::inverse(regularised);
-            at_rest_->rest_fits[i] = {
-                {inverse[0][0], inverse[0][1], inverse[0][2], inverse[1][1], inverse[1][2], inverse[2][2]}, weight};
+            const Vec3 u = inverse * (at_rest_->rest[t[1]] - at_rest_->rest[t[0]]),
+                       w = inverse * (at_rest_->rest[t[2]] - at_rest_->rest[t[0]]);
+            at_rest_->rest_fits[i] = {u, w, glm::dot(normal, u), glm::dot(normal, w), weight};
         }
     });
 }
@@ -385,22 +386,40 @@ bool FoldRepair::reversed_by_fit(std::uint32_t i, const std::vector<Vec3>& x) co
     return glm::dot(fitted, image) <= 0.0;
 }
 
-// Check_ entry i's area vector in x, and the one its fit gives it.
+// Check entry i's area vector in x, and the one its fit gives it: A u × A w
+// with A = (J + λ/|m| m nᵀ) S (prepare_affine_test), J the stars' joint moment
+// now (joint_moment) applied to S u and S w term by term, without forming J.
 void FoldRepair::fit_images(std::uint32_t i, const std::vector<Vec3>& x, Vec3& fitted, Vec3& image) const {
     const RestFit& fit = at_rest_->rest_fits[i];
     const Triangle& t = at_rest_->triangles[at_rest_->check[i]];
     const std::uint32_t j[3] = {at_rest_->fit_of[t[0]], at_rest_->fit_of[t[1]], at_rest_->fit_of[t[2]]};
     const StarSums* now[3] = {&sums_[j[0]], &sums_[j[1]], &sums_[j[2]]};
     const Vec3* then[3] = {&at_rest_->rest_sums[j[0]], &at_rest_->rest_sums[j[1]], &at_rest_->rest_sums[j[2]]};
-    const Vec3 u = at_rest_->rest[t[1]] - at_rest_->rest[t[0]], w = at_rest_->rest[t[2]] - at_rest_->rest[t[0]];
-    const Vec3 normal = glm::normalize(glm::cross(u, w));
+    // The corners about corner 0, now (dy) and at rest (dp), as joint_moment.
+    const Vec3 dy[3] = {Vec3(0.0), x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]};
+    const Vec3 dp[3] = {Vec3(0.0), at_rest_->rest[t[1]] - at_rest_->rest[t[0]],
+                        at_rest_->rest[t[2]] - at_rest_->rest[t[0]]};
+    // J a = Σ_c (P_c a + σ_c (dp_c·a) + dy_c (ρ_c·a + k_c dp_c·a)) − Σy (Σp·a) / K,
+    // for a = S u and S w together.
+    Vec3 sum_y(0.0), ju(0.0), jw(0.0);
+    double count = 0.0, sum_pu = 0.0, sum_pw = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        const StarSums& star = *now[c];
+        const double along_u = glm::dot(dp[c], fit.u), along_w = glm::dot(dp[c], fit.w);
+        const double rest_u = glm::dot(*then[c], fit.u) + star.count * along_u,
+                     rest_w = glm::dot(*then[c], fit.w) + star.count * along_w;
+        ju += star.product * fit.u + star.sum * along_u + dy[c] * rest_u;
+        jw += star.product * fit.w + star.sum * along_w + dy[c] * rest_w;
+        sum_pu += rest_u, sum_pw += rest_w;
+        sum_y += star.sum + star.count * dy[c], count += star.count;
+    }
+    const double per_count = 1.0 / count;
     const Vec3 turned = now[0]->normal + now[1]->normal + now[2]->normal;
     const double length = glm::length(turned);
-    const glm::dmat3 a = (joint_moment(t, at_rest_->rest, x, now, then) +
-                          (length > 0.0 ? fit.weight / length : 0.0) * glm::outerProduct(turned, normal)) *
-                         symmetric(fit.inverse);
-    image = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
-    fitted = glm::cross(a * u, a * w);
+    const Vec3 normal_term = length > 0.0 ? turned * (fit.weight / length) : Vec3(0.0);
+    image = glm::cross(dy[1], dy[2]);
+    fitted = glm::cross(ju - sum_y * (sum_pu * per_count) + normal_term * fit.u_normal,
+                        jw - sum_y * (sum_pw * per_count) + normal_term * fit.w_normal);
 }
 
 // The entries folded by the neighbour test (`neighbour` of them), and by the
@@ -463,8 +482,9 @@ void FoldRepair::measure_lift(const std::vector<Vec3>& x, const VertexRings& rin
     if (flags) flags_.resize(n);
     parallel_for(n, [&](std::size_t first, std::size_t last) {
         for (std::size_t i = first; i < last; ++i) {
-            lift_by_neighbours_[i] = neighbour_lift(i, x);
-            if (flags) flags_[i] = faces_against_neighbours(i);
+            const Vec3 sum = neighbour_normal_sum(i);
+            lift_by_neighbours_[i] = neighbour_lift(i, x, sum);
+            if (flags) flags_[i] = faces_against(i, sum);
         }
     });
     lift_by_fit_.assign(affine_test ? n : 0, std::numeric_limits<double>::infinity());
@@ -527,17 +547,14 @@ std::vector<std::uint32_t> FoldRepair::folded(const std::vector<Vec3>& x, const 
 
 // Whether at_rest_->check entry i's triangle faces against the sum of its
 // neighbours' unit normals in normals_, and did not at rest.
-bool FoldRepair::faces_against_neighbours(std::size_t i) const {
+bool FoldRepair::faces_against_neighbours(std::size_t i) const { return faces_against(i, neighbour_normal_sum(i)); }
+
+// The same with that sum given (neighbour_normal_sum).
+bool FoldRepair::faces_against(std::size_t i, const Vec3& sum) const {
     const AtRest& rest = *at_rest_;
-    const std::uint32_t begin = rest.neighbour_offsets[i], end = rest.neighbour_offsets[i + 1];
-    if (rest.against_at_rest[i] || begin == end) return false;
-    double sx = 0.0, sy = 0.0, sz = 0.0;  // the neighbours' normals' sum, in scalars (geometry.cpp's ring sums)
-    for (std::uint32_t k = begin; k < end; ++k) {
-        const Vec3& m = normals_[rest.neighbours[k]];
-        sx += m.x, sy += m.y, sz += m.z;
-    }
+    if (rest.against_at_rest[i] || rest.neighbour_offsets[i] == rest.neighbour_offsets[i + 1]) return false;
     const Vec3& n = normals_[rest.check[i]];
-    return n.x * sx + n.y * sy + n.z * sz < 0.0;
+    return n.x * sum.x + n.y * sum.y + n.z * sum.z < 0.0;
 }
 
 // Every triangle's unit normal in x, into normals_.
@@ -844,12 +861,12 @@ Vec3 FoldRepair::neighbour_normal_sum(std::size_t i) const {
 // the unit sum of its neighbours' normals, c its cosine n·Ŝ at rest and A its
 // area at rest; +inf where not tested. Below 0 it is short of its target. It
 // is linear in each corner and, unlike n·Ŝ, steep for a corner pushed through
-// its triangle's base: the lift moves it back across.
-double FoldRepair::neighbour_lift(std::size_t i, const std::vector<Vec3>& x) const {
+// its triangle's base: the lift moves it back across. `sum` is
+// neighbour_normal_sum(i).
+double FoldRepair::neighbour_lift(std::size_t i, const std::vector<Vec3>& x, const Vec3& sum) const {
     const AtRest& rest = *at_rest_;
     const double cosine = rest.rest_cosine[i];
     if (rest.against_at_rest[i] || !(cosine > 0.0)) return std::numeric_limits<double>::infinity();
-    const Vec3 sum = neighbour_normal_sum(i);
     const double length = glm::length(sum);
     if (!(length > 0.0)) return std::numeric_limits<double>::infinity();
     const Triangle& t = rest.triangles[rest.check[i]];
@@ -889,8 +906,10 @@ std::vector<std::uint32_t> FoldRepair::refresh_lift(const std::vector<Vec3>& x, 
         for (std::uint32_t k = rest.neighbour_offsets[i]; k < rest.neighbour_offsets[i + 1]; ++k)
             normals_[rest.neighbours[k]] = unit_normal(x, rest.triangles[rest.neighbours[k]]);
     }
-    for (const std::uint32_t i : again)
-        lift_by_neighbours_[i] = neighbour_lift(i, x), flags_[i] = faces_against_neighbours(i);
+    for (const std::uint32_t i : again) {
+        const Vec3 sum = neighbour_normal_sum(i);
+        lift_by_neighbours_[i] = neighbour_lift(i, x, sum), flags_[i] = faces_against(i, sum);
+    }
     if (affine_test)
         for (const std::uint32_t i : test_affine(x, rings, &moved, &lift_by_fit_)) again.push_back(i);
     std::sort(again.begin(), again.end());

@@ -179,8 +179,9 @@ public:
     std::size_t bytes(bool shared = true) const;
 
     // The affine test's sums of one star, and its fit of one triangle at rest:
-    // the inverse of its regularised second moment (symmetric: xx, xy, xz, yy,
-    // yz, zz) and the regularisation's weight (0: not tested).
+    // the triangle's edges u, w at rest through the inverse S of its regularised
+    // second moment, their normal parts n·S u and n·S w, and the regularisation's
+    // weight (0: not tested).
     struct StarSums {
         double count = 0.0;
         Vec3 sum{0.0};            // Σ yᵢ, each about the star's vertex
@@ -188,7 +189,8 @@ public:
         Vec3 normal{0.0};         // the star's unit normal
     };
     struct RestFit {
-        double inverse[6] = {1.0, 0.0, 0.0, 1.0, 0.0, 1.0};
+        Vec3 u{0.0}, w{0.0};
+        double u_normal = 0.0, w_normal = 0.0;
         double weight = 0.0;
     };
 
@@ -207,10 +209,11 @@ private:
     void settle(const std::vector<std::pair<std::uint32_t, Vec3>>& lifted, std::vector<Vec3>& x,
                 const VertexRings& rings) const;
     Vec3 neighbour_normal_sum(std::size_t entry) const;
-    double neighbour_lift(std::size_t entry, const std::vector<Vec3>& x) const;
+    double neighbour_lift(std::size_t entry, const std::vector<Vec3>& x, const Vec3& sum) const;
     double fit_lift(std::size_t entry, const Vec3& fitted, const Vec3& image) const;
     bool short_of_target(std::size_t entry, double by_neighbours, double by_fit) const;
     bool faces_against_neighbours(std::size_t entry) const;
+    bool faces_against(std::size_t entry, const Vec3& sum) const;
     void take_normals(const std::vector<Vec3>& x);
     std::vector<float> facings(const std::vector<Vec3>& x);
     std::vector<std::uint32_t> folded(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test,
