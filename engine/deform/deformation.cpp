@@ -33,6 +33,11 @@ double next_time_on_grid(double time, double target, int steps) {
     return (target > time) == (next > target) ? target : next;
 }
 
+double grid_time_at_or_after(double time, int steps) {
+    const double n = steps;
+    return std::ceil(time * n - 1e-9) / n;
+}
+
 double StepControl::next_length(double h, double error, double tolerance) {
     const double factor =
         error > 0.0 ? std::clamp(kSafety * std::sqrt(tolerance / error), kMostShrink, kMostGrowth) : kMostGrowth;

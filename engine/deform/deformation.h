@@ -79,6 +79,10 @@ struct Region {
 // k / steps, or `target` itself when that comes first.
 double next_time_on_grid(double time, double target, int steps);
 
+// The first grid point k / steps at or after `time`: where fixed steps that
+// pass `time` end (a join aside).
+double grid_time_at_or_after(double time, int steps);
+
 // The step control's constants: the first step's length, the bounds on a step's
 // length, and how much one step's length may grow or shrink the next's.
 struct StepControl {

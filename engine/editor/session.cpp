@@ -255,7 +255,7 @@ void EditorSession::replace_document(Document doc) {
     base_moved_stats();
     stats_.vertices = doc_.file.mesh.vertex_count();
     stats_.triangles = doc_.file.mesh.triangle_count();
-    held_.reset(), held_for_rewind_ = false;
+    drop_held();
     drop_deformation();
     rest_.reset();  // of another mesh: freed now, not when the next run starts
     changed(mesh_replaced);
@@ -604,7 +604,7 @@ void EditorSession::set_target_time(double t) { set_target(std::clamp(t, 0.0, 1.
 
 void EditorSession::set_target(double t) {
     if (held_ && !held_for_rewind_) {  // a new target: show the way there, with its stats
-        held_.reset();
+        drop_held();
         changed(positions_moved);
         if (deformation_)
             update_stats();
@@ -648,6 +648,12 @@ void EditorSession::restart_after_edit() {
     if (deformation_ && !held_ && time() > 0.0 && !moving()) held_ = deformation_->positions();
     held_for_rewind_ = false;  // what is held is now the edit's
     drop_deformation();
+}
+
+// The shape on show while a run catches up goes: positions() is the run's again.
+void EditorSession::drop_held() {
+    held_.reset();
+    held_for_rewind_ = false;
 }
 
 void EditorSession::drop_deformation() {
@@ -722,7 +728,7 @@ int EditorSession::update(int max_steps, double budget_ms, bool stop_before_affi
         const double before = time();
         const bool held = held_.has_value();
         taken = deformation_->advance(target_time(), max_steps, budget_ms, stop_before_affine_test);
-        if (!moving()) held_.reset(), held_for_rewind_ = false;  // the edit's (or the way back's) result is ready
+        if (!moving()) drop_held();  // the edit's (or the way back's) result is ready
         // Back to t = 0 from rest takes no step, but the positions changed.
         if (taken > 0 || time() != before || held != held_.has_value()) {
             changed(positions_moved);
@@ -810,7 +816,7 @@ std::vector<std::string> EditorSession::warnings() const {
 
 void EditorSession::apply() {
     if (!deformation_ || time() == 0.0) return;
-    held_.reset(), held_for_rewind_ = false;  // what is baked is the deformation at time()
+    drop_held();  // what is baked is the deformation at time()
     BakeChange bake;
     bake.before = doc_.file.mesh.positions;
     bake.after = positions();
@@ -858,7 +864,7 @@ void EditorSession::apply_edit(const Edit& edit, bool forward) {
         doc_.baked = forward ? true : b->baked_before;
         doc_.region = forward ? b->region_after : b->region_before;
         doc_.scene.motion = forward ? b->motion_after : b->motion_before;
-        held_.reset(), held_for_rewind_ = false;  // new base positions: nothing of the last run stays on show
+        drop_held();  // new base positions: nothing of the last run stays on show
         drop_deformation();
         rest_.reset();
         diagonal_ = bounding_box(doc_.file.mesh.positions).diagonal();

@@ -298,6 +298,7 @@ private:
     void apply_edit(const Edit& edit, bool forward);
     void set_target(double t);
     void drop_deformation();
+    void drop_held();
     void predict_backend();
     void restart_after_edit();
     void ensure_deformation();

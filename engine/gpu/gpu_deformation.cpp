@@ -85,6 +85,12 @@ struct GpuRest {
         fold_repair = {};
         keep_volume = false;
     }
+    // The passes' positions back at rest and ∇r zero: where a deformation that
+    // takes the kept passes starts.
+    void back_to_rest() {
+        passes.set_positions(positions);
+        passes.set_gradients(std::vector<Vec3>(positions.size(), Vec3(0.0)));
+    }
 
     std::vector<Vec3> positions;
     std::vector<double> s;
@@ -130,8 +136,7 @@ public:
         if (kept && *kept && !region.sphere_tool && (*kept)->fits_mesh(positions, rings)) {
             rest_ = std::move(*kept);
             if (!rest_->fits_scheme(region, options)) rest_->restart(region, options);  // a region edit
-            rest_->passes.set_positions(positions);
-            rest_->passes.set_gradients(std::vector<Vec3>(positions.size(), Vec3(0.0)));
+            rest_->back_to_rest();  // fits_mesh: its positions are these
         } else {
             rest_ = std::make_unique<GpuRest>(positions, rings, region, options);
         }
@@ -165,8 +170,7 @@ public:
     void restart() override {
         if (try_ && try_->stage == Stage::move_issued) passes().discard_step();
         try_.reset();
-        passes().set_positions(rest_->positions);
-        passes().set_gradients(std::vector<Vec3>(rest_->positions.size(), Vec3(0.0)));
+        rest_->back_to_rest();
         have_gradients_ = false;
         gradient_time_ = 0.0;
         positions_valid_ = false;

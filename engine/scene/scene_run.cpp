@@ -13,13 +13,6 @@ namespace {
 constexpr int kChecks = 10;            // the folds are counted at every tenth of unit time
 constexpr std::size_t kMaxGrowth = 2;  // a refined mesh has at most twice the input's vertices
 
-// The first time of the grid k / steps at or after `time`: where fixed steps
-// that pass `time` end (deform/deformation.cpp's grid, the same bits).
-double grid_time_at_or_after(double time, int steps) {
-    const double n = steps;
-    return std::ceil(time * n - 1e-9) / n;
-}
-
 // One run from t = 0 to the target time, its folds watched.
 SceneRun run_once(const PreparedScene& p, const StartDeformation& start, const RunProgress& progress, int refinements) {
     SceneRun run;
