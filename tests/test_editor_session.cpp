@@ -32,6 +32,25 @@ SurfacePoint at_vertex_nearest(const EditorSession& session, Vec3 p) {
                                    nearest_vertex(session.base_positions(), p));
 }
 
+// The folding box (which folds without the repair) opened in `session` with
+// the repair and error-controlled steps, run to t = 1 a step at a time: the
+// times and shapes of the way out.
+std::vector<std::pair<double, std::vector<Vec3>>> repaired_way_out(EditorSession& session) {
+    Scene scene = test::folding_box_scene();
+    scene.options.repair_folds = true;
+    scene.options.tolerance = 5e-4;
+    scene.target_time = 0.0;
+    session.open_scene(scene);
+    std::vector<std::pair<double, std::vector<Vec3>>> way_out;
+    session.set_target_time(1.0);
+    while (session.moving()) {
+        session.update(1);
+        way_out.emplace_back(session.time(), session.positions());
+    }
+    REQUIRE(session.deformation()->fold_repairs().steps_repaired > 0);
+    return way_out;
+}
+
 }  // namespace
 
 TEST_CASE("EditorSession: save, load and deform give the session's own result", "[editor][session]") {
@@ -513,19 +532,8 @@ TEST_CASE("EditorSession: scrubbing back across the fold repair shows the way ou
     // repair acted after (Deformation::advance); the shape on show stays until
     // it reaches the new time, then it is the way out's shape there, and at
     // t = 0 the mesh as it was.
-    Scene scene = test::folding_box_scene();  // folds without the repair
-    scene.options.repair_folds = true;
-    scene.options.tolerance = 5e-4;
-    scene.target_time = 0.0;
     EditorSession session;
-    session.open_scene(scene);
-    std::vector<std::pair<double, std::vector<Vec3>>> way_out;
-    session.set_target_time(1.0);
-    while (session.moving()) {
-        session.update(1);
-        way_out.emplace_back(session.time(), session.positions());
-    }
-    REQUIRE(session.deformation()->fold_repairs().steps_repaired > 0);
+    const std::vector<std::pair<double, std::vector<Vec3>>> way_out = repaired_way_out(session);
     const std::vector<Vec3> at_end = session.positions();
     for (const std::size_t k : {way_out.size() / 2, way_out.size() / 5}) {
         const auto& [time, shape] = way_out[k];
@@ -547,4 +555,50 @@ TEST_CASE("EditorSession: scrubbing back across the fold repair shows the way ou
     session.set_target_time(1.0);
     run_to_target(session);
     CHECK(session.positions() == at_end);
+}
+
+TEST_CASE("EditorSession: apply while a run catches up bakes what it catches up to, not the way there",
+          "[editor][session]") {
+    // The shape on show while an edit's run (or a way back from rest) catches up
+    // is not the deformation at time(): apply runs to the target first and bakes
+    // the shape a session that waited would bake.
+    std::mt19937 random(17);
+    std::uniform_real_distribution<double> offset(-0.1, 0.1);
+    for (int draw = 0; draw < 4; ++draw) {
+        const Vec3 move(offset(random), offset(random), offset(random));
+        const int steps_before = draw % 3;  // applied at once, or after a step or two of the run
+        INFO("draw " << draw << ", " << steps_before << " steps before apply");
+        EditorSession hurried, waited;
+        for (EditorSession* session : {&hurried, &waited}) {
+            session->open_mesh("builtin:cylinder:12");
+            session->set_target_time(1.0);
+            run_to_target(*session);
+            session->move_control_point(3, session->control_points()[3] + move);
+        }
+        REQUIRE(hurried.holding_result());
+        while (hurried.prepare_run()) {
+        }
+        hurried.update(steps_before);
+        REQUIRE(hurried.holding_result());
+        const std::vector<Vec3> at_rest = hurried.base_positions(), on_show = hurried.positions();
+        hurried.apply();
+        run_to_target(waited);
+        waited.apply();
+        CHECK_FALSE(hurried.holding_result());
+        CHECK(hurried.base_positions() == waited.base_positions());
+        CHECK(hurried.base_positions() != at_rest);
+        CHECK(hurried.base_positions() != on_show);  // the last edit's result, held on show
+        REQUIRE(hurried.undo());
+        CHECK(hurried.target_time() == 1.0);  // the time the bake was of
+    }
+
+    // Scrubbed back across the fold repair: the way out's shape at that time.
+    EditorSession session;
+    const std::vector<std::pair<double, std::vector<Vec3>>> way_out = repaired_way_out(session);
+    const auto& [time, shape] = way_out[way_out.size() / 2];
+    session.set_target_time(time);
+    REQUIRE(session.holding_result());
+    session.update(1);
+    session.apply();
+    CHECK(session.base_positions() == shape);
 }

@@ -815,8 +815,11 @@ std::vector<std::string> EditorSession::warnings() const {
 // ---- apply, undo, redo ------------------------------------------------------------
 
 void EditorSession::apply() {
+    // While a run catches up (holding_result()), what it catches up to is baked:
+    // the edit's result, or the time scrubbed to, not the way there.
+    if (held_) update(std::numeric_limits<int>::max());
     if (!deformation_ || time() == 0.0) return;
-    drop_held();  // what is baked is the deformation at time()
+    drop_held();  // what is baked is the deformation at time() (a failed run's last good shape)
     BakeChange bake;
     bake.before = doc_.file.mesh.positions;
     bake.after = positions();

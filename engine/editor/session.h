@@ -193,8 +193,10 @@ public:
     // pieces together), in milliseconds; 0 before a step.
     double longest_recent_step_ms() const;
     // Bakes the deformed mesh as the new base (one undo step) and sets the target
-    // to 0. No-op at t = 0. Its undo restores the base and sets the target back to
-    // the time it was applied at (update() plays there again); redo applies again.
+    // to 0. No-op at t = 0. While a run catches up to an edit or a time scrubbed
+    // to (holding_result()), it first runs to the target, and bakes that. Its undo
+    // restores the base and sets the target back to the time it was applied at
+    // (update() plays there again); redo applies again.
     void apply();
 
     bool undo();
