@@ -76,6 +76,7 @@ public:
     std::shared_ptr<const CpuRest> cpu_rest() const override;
     bool restarts() const override;
     void restart() override;
+    void release_scratch() override { fold_repair_.release_scratch(); }
 
     // Bytes held by the deformation state: positions, work arrays, s, rings, region parts, the rest state.
     std::size_t state_bytes() const;

@@ -251,6 +251,7 @@ int Deformation::advance(double target, int max_steps, double budget_ms, bool st
         checked_ = false;
     }
     if (taken > 0) first_piece_.reset();
+    if (time_ == target) backend_->release_scratch();
     return taken;
 }
 

@@ -209,6 +209,9 @@ public:
     // way out: not on the GPU or for the sphere tool, which then step back.
     virtual bool restarts() const { return false; }
     virtual void restart() {}
+    // Frees what a run holds only on its way (the fold repair's sums, deform/fold_repair.h):
+    // Deformation::advance calls it when it reaches its target.
+    virtual void release_scratch() {}
 };
 
 class Deformation {

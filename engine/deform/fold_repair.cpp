@@ -316,7 +316,6 @@ double FoldRepair::repair_time_within(double from, double to) {
 
 std::vector<std::uint32_t> FoldRepair::affine_folded(const std::vector<Vec3>& x, const VertexRings& rings) {
     test_affine(x, rings, nullptr);
-    std::vector<StarSums>().swap(sums_);
     std::vector<std::uint32_t> out;
     for (std::uint32_t i = 0; i < at_rest_->check.size(); ++i)
         if (affine_flags_[i]) out.push_back(i);
@@ -467,7 +466,6 @@ std::size_t FoldRepair::count_folds(const std::vector<Vec3>& x, const VertexRing
             short_of[i] = short_of_target(i, lift_by_neighbours_[i],
                                           affine_test ? lift_by_fit_[i] : std::numeric_limits<double>::infinity());
     });
-    if (!keep_measures) std::vector<StarSums>().swap(sums_);  // held only while a repair runs
     return std::size_t(std::count(short_of.begin(), short_of.end(), std::uint8_t(1)));
 }
 
@@ -1073,10 +1071,7 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
     using Score = std::pair<std::size_t, std::size_t>;
     std::size_t neighbour = 0;
     std::vector<std::uint32_t> bad = folded_as_lifted(affine_test, neighbour);
-    if (bad.empty()) {
-        std::vector<StarSums>().swap(sums_);  // the affine test's sums are held only while a repair runs
-        return 0;
-    }
+    if (bad.empty()) return 0;
     const Score found{neighbour, bad.size()};
     stats_.steps_repaired += new_step && !acted_;
     stats_.steps_untangled += new_step;
@@ -1150,9 +1145,10 @@ std::size_t FoldRepair::repair(std::vector<Vec3>& x, const VertexRings& rings, b
     double shift = 0.0;
     for (const auto& [v, s] : start) shift = std::max(shift, glm::length(x[v] - s.position));
     stats_.max_shift = std::max(stats_.max_shift, shift);
-    std::vector<StarSums>().swap(sums_);
     return fewest.second;
 }
+
+void FoldRepair::release_scratch() { std::vector<StarSums>().swap(sums_); }
 
 std::size_t FoldRepair::bytes(bool shared) const {
     const auto capacity = [](const auto& v) { return v.capacity() * sizeof(v[0]); };

@@ -171,6 +171,10 @@ public:
     // The check entries (as in checks()) the affine test finds folded in `positions`.
     std::vector<std::uint32_t> affine_folded(const std::vector<Vec3>& positions, const VertexRings& rings);
     const FoldRepairStats& stats() const { return stats_; }
+    // Frees the affine test's sums of every star (128 bytes a checked vertex):
+    // they are kept from one test to the next while a run goes on, so that each
+    // test does not allocate them again (at 2M vertices about 100 MB a test).
+    void release_scratch();
     FoldChecks checks() const {
         const AtRest& r = *at_rest_;
         return {r.triangles, r.check, r.neighbour_offsets, r.neighbours, r.against_at_rest, r.margin, r.floor};
@@ -263,7 +267,7 @@ private:
     std::vector<std::uint8_t> flags_;            // per check entry: the neighbour test's last result
     std::vector<std::uint8_t> touched_;          // per triangles entry, scratch
     std::vector<std::uint8_t> mark_;             // per vertex, scratch
-    std::vector<StarSums> sums_;                 // per fit vertex, now: held only while a repair runs
+    std::vector<StarSums> sums_;                 // per fit vertex, now: held until release_scratch()
     std::vector<std::uint8_t> affine_flags_;     // per check entry: the affine test's last result
     std::vector<std::uint8_t> near_;             // per vertex, scratch
     std::vector<std::uint8_t> entry_mark_;       // per check entry, scratch

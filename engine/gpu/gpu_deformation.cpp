@@ -162,6 +162,7 @@ public:
         return DeviceVertices{&passes().vertex_texture(), passes().vertex_origin()};
     }
     FoldRepairStats fold_repairs() const override { return fold_repair_.stats(); }
+    void release_scratch() override { fold_repair_.release_scratch(); }
 
     // Back to where the constructor leaves a deformation that takes a kept
     // set-up (the same steps as a fresh one's, bit for bit): the rest positions,
