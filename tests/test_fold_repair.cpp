@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "deform/cpu_steps.h"
 #include "deform/fold_repair.h"
 #include "deform/quality.h"
 #include "io/mesh_file.h"
@@ -475,4 +476,34 @@ TEST_CASE("past the way out's end, a run scrubbed back and forth goes on as one 
     CHECK(scrubbed.step_errors().rejected == straight.step_errors().rejected);
     CHECK(scrubbed.step_tries().size() == straight.step_tries().size());
     CHECK(scrubbed.positions() == straight.positions());
+}
+
+TEST_CASE("a run keeps the affine test's sums from one test to the next and frees them at its target",
+          "[deform][repair]") {
+    // The sums of every star (FoldRepair::StarSums, per corner of a checked
+    // triangle) are allocated once a run (at 2M vertices about 100 MB) and freed
+    // when it reaches its target, so that the state's size between runs stays
+    // what it was.
+    Scene scene = test::folding_box_scene();
+    scene.options.repair_folds = true;
+    scene.options.steps = 40;
+    const PreparedScene prepared = prepare_scene(scene);
+    auto steps = std::make_unique<CpuSteps>(prepared.file.mesh.positions, prepared.rings, prepared.region,
+                                            prepared.motion, scene.options);
+    const CpuSteps& state = *steps;
+    Deformation d(std::move(steps), scene.options);
+    std::size_t blend = 0;
+    for (const double s : prepared.region.s) blend += s > 0.0 && s < 1.0;
+    REQUIRE(blend > 0);
+    const std::size_t sums = blend * sizeof(FoldRepair::StarSums);  // at least: every blend vertex is a corner
+
+    d.advance(1.0, 10);  // past the affine test at t = 0.2
+    const std::size_t after_first = state.state_bytes();
+    d.advance(1.0, 15);                         // past those at 0.4 and 0.6
+    CHECK(state.state_bytes() == after_first);  // held, not allocated again
+    d.advance(1.0);
+    CHECK(d.time() == 1.0);
+    CHECK(state.state_bytes() + sums <= after_first);  // freed at the target
+    d.advance(0.5);                                    // a run back to its target frees them there too
+    CHECK(state.state_bytes() + sums <= after_first);
 }
