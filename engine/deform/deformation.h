@@ -206,7 +206,8 @@ public:
     virtual std::shared_ptr<const CpuRest> cpu_rest() const { return nullptr; }
     // Whether restart() can go back to the rest positions and the state a
     // deformation starts from, so that the steps forward from t = 0 repeat the
-    // way out: not on the GPU or for the sphere tool, which then step back.
+    // way out: on the CPU once its rest state is built, on the GPU once its
+    // set-up is done; not for the sphere tool, which then steps back.
     virtual bool restarts() const { return false; }
     virtual void restart() {}
     // Frees what a run holds only on its way (the fold repair's sums, deform/fold_repair.h):
