@@ -516,3 +516,68 @@ TEST_CASE("Frames: a pick's region is computed over frames the editor stays busy
         CHECK(editor.session().positions() == at_once.positions());
     }
 }
+
+TEST_CASE("Frames: an apply while a run catches up waits for it over frames and bakes what it reaches",
+          "[editor][frames]") {
+    // EditorSession::apply runs the rest of the run in one call; the editors' apply
+    // (the command, its key) leaves the run to the frames, one step each here, and
+    // the frame that reaches the target bakes: the base a session that applied at
+    // once bakes, bit for bit. A command that changes the document first bakes a
+    // due apply; one that changes the view leaves it waiting.
+    const auto edited = [](Editor& editor) {
+        editor.session().set_target_time(1.0);
+        while (editor.session().moving()) editor.advance();
+        std::vector<Vec3> points = editor.session().control_points();
+        editor.session().move_control_point(3, points[3] + 0.1 * editor.session().diagonal() * Vec3(1.0, -0.5, 0.2));
+        REQUIRE(editor.session().holding_result());
+    };
+    test::ScratchDir dir;
+    TestShell shell;
+    EditorOptions options = ShellEditor::options(dir);
+    options.step_budget_ms = options.max_frame_ms = 0.0;  // a step a frame
+    Editor at_once(shell, {}, "no GPU in this test", options);
+    at_once.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+    edited(at_once);
+    at_once.session().apply();
+    const std::vector<Vec3> baked = at_once.session().base_positions();
+
+    for (const bool by_key : {false, true}) {
+        INFO((by_key ? "the key" : "the command"));
+        Editor editor(shell, {}, "no GPU in this test", options);
+        editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+        const std::vector<Vec3> at_rest = editor.session().base_positions();
+        edited(editor);
+        const std::size_t edits = editor.session().history().undo_count();
+        if (by_key)
+            CHECK(editor.key("a", false, false));
+        else
+            editor.command("apply");
+        CHECK(editor.apply_due());
+        CHECK(editor.session().moving());
+        CHECK(editor.session().base_positions() == at_rest);
+        editor.command("view", {{"name", "front"}});
+        CHECK(editor.apply_due());
+        int frames = 0;
+        for (; editor.apply_due() && frames < 10000; ++frames) editor.advance();
+        CHECK(frames > 2);
+        CHECK(editor.session().base_positions() == baked);
+        CHECK(editor.session().history().undo_count() == edits + 1);
+        CHECK(editor.session().time() == 0.0);
+        CHECK_FALSE(editor.session().moving());
+    }
+
+    // An undo right after the apply: the apply is baked first, and the undo takes
+    // it back to the time it was of.
+    Editor editor(shell, {}, "no GPU in this test", options);
+    editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+    const std::vector<Vec3> at_rest = editor.session().base_positions();
+    edited(editor);
+    editor.command("apply");
+    REQUIRE(editor.apply_due());
+    editor.command("undo");
+    CHECK_FALSE(editor.apply_due());
+    CHECK(editor.session().base_positions() == at_rest);
+    CHECK(editor.session().target_time() == 1.0);
+    CHECK(editor.session().redo());
+    CHECK(editor.session().base_positions() == baked);
+}

@@ -629,14 +629,17 @@ std::string key_name(const std::string& key, bool ctrl, bool shift) {
     return name;
 }
 
-bool run_key(const std::string& key, bool ctrl, bool shift, CommandContext& context) {
+const KeyBinding* find_key(const std::string& key, bool ctrl, bool shift) {
     const std::string name = key_name(key, ctrl, shift);
     for (const KeyBinding& k : kKeys)
-        if (name == k.key) {
-            run_command(k.command, json::parse(k.args), context);
-            return true;
-        }
-    return false;
+        if (name == k.key) return &k;
+    return nullptr;
+}
+
+bool run_key(const std::string& key, bool ctrl, bool shift, CommandContext& context) {
+    const KeyBinding* k = find_key(key, ctrl, shift);
+    if (k) run_command(k->command, json::parse(k->args), context);
+    return k != nullptr;
 }
 
 // ---- docs ------------------------------------------------------------------------------

@@ -128,6 +128,8 @@ const std::vector<KeyBinding>& key_bindings();
 // "z", "ctrl+z", "ctrl+shift+z", "space", "enter", "[", "1": the key's character
 // (or name) in lower case; Shift counts only together with Ctrl.
 std::string key_name(const std::string& key, bool ctrl, bool shift);
+// The binding of the key; null when none is.
+const KeyBinding* find_key(const std::string& key, bool ctrl, bool shift);
 // Runs the command bound to the key; false when none is.
 bool run_key(const std::string& key, bool ctrl, bool shift, CommandContext& context);
 

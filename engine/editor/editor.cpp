@@ -16,6 +16,13 @@ bool is_brush(Tool tool) {
 
 std::string file_name(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
+// Commands that change only the view, the tool or its settings: they leave a due apply waiting.
+bool leaves_document(const std::string& command) {
+    for (const char* c : {"tool", "brush", "brush-size", "view", "orbit", "wireframe", "screenshot", "wait-frames"})
+        if (command == c) return true;
+    return false;
+}
+
 }  // namespace
 
 Editor::Editor(Shell& shell, DeformationFactory gpu, const std::string& gpu_reason, const EditorOptions& options)
@@ -35,6 +42,7 @@ CommandContext Editor::context() { return {*session_, tools_, camera_, settings_
 bool Editor::open(const std::string& path) { return open(std::vector<std::string>{path}); }
 
 bool Editor::open(const std::vector<std::string>& paths) {
+    settle_apply();
     // A failed load keeps the current document and says why.
     std::string path = paths.empty() ? "" : paths.front();
     try {
@@ -53,6 +61,7 @@ bool Editor::open(const std::vector<std::string>& paths) {
 }
 
 void Editor::open_default(const std::string& scene_path, bool offer_autosave) {
+    settle_apply();
     if (session_->triangles().empty()) {
         try {
             session_->open_scene_file(scene_path);
@@ -74,6 +83,7 @@ void Editor::open_default(const std::string& scene_path, bool offer_autosave) {
 }
 
 void Editor::open_scene(const Scene& scene) {
+    settle_apply();
     session_->open_scene(scene);
     tools_.adapt_to(*session_);
     loaded();
@@ -89,16 +99,34 @@ void Editor::loaded() {
 // ---- commands and scripts -------------------------------------------------------------
 
 void Editor::command(const std::string& name, const nlohmann::json& args) {
+    if (name == "apply" && session_->holding_result()) {
+        validate_arguments(find_command(name), args);
+        apply_due_ = true;
+        status_ = "applying when the run reaches its target";
+        return;
+    }
+    if (!leaves_document(name)) settle_apply();
     CommandContext c = context();
     run_command(name, args, c);
 }
 
 bool Editor::key(const std::string& key, bool ctrl, bool shift) {
-    CommandContext c = context();
-    return run_key(key, ctrl, shift, c);
+    const KeyBinding* k = find_key(key, ctrl, shift);
+    if (k) command(k->command, nlohmann::json::parse(k->args));
+    return k != nullptr;
 }
 
-void Editor::run_script(std::vector<ScriptAction> actions) { script_ = std::make_unique<ScriptRunner>(std::move(actions)); }
+void Editor::run_script(std::vector<ScriptAction> actions) {
+    settle_apply();
+    script_ = std::make_unique<ScriptRunner>(std::move(actions));
+}
+
+void Editor::settle_apply() {
+    if (!apply_due_) return;
+    apply_due_ = false;
+    session_->apply();  // the rest of the run, if any, then the bake
+    status_ = "applied";
+}
 
 // ---- the autosave -----------------------------------------------------------------------
 
@@ -109,6 +137,7 @@ void Editor::autosave_now() {
 }
 
 void Editor::answer_restore(bool restore) {
+    settle_apply();
     if (autosave_.answer(*session_, restore)) {
         tools_.adapt_to(*session_);
         loaded();
@@ -126,6 +155,7 @@ void Editor::clean_exit() {
 
 void Editor::press(double x, double y, bool pan) {
     if (drag_ != Drag::none) return;
+    if (!pan) settle_apply();  // a tool may take the press
     last_ = {x, y};
     pointer_ = last_;
     if (pan) drag_ = Drag::pan;
@@ -160,6 +190,7 @@ void Editor::wheel(double notches, double x, double y) {
 
 void Editor::advance() {
     if (script_ && !script_->done()) {
+        settle_apply();
         script_->run_frame(context());
         if (script_->done()) log(script_->failed() ? "script failed: " + script_->error() : "script: done");
     }
@@ -169,6 +200,7 @@ void Editor::advance() {
     const bool working = session_->moving() || session_->region_pending();
     const FramePacer::Plan plan = pacer_.plan(now(), working, shell_.keeps_image(), shell_.renderer_busy());
     integrate_for(plan.integrate_ms);
+    if (apply_due_ && !session_->holding_result()) settle_apply();  // the run reached its target
     // While an edit's run keeps the last result on show, or its region's s is
     // computed, the image does not change: a shell that keeps its image (the
     // page) has nothing new to draw until the run ends or the region is built,

@@ -115,8 +115,14 @@ public:
     // at start-up (offers the autosave).
     void open_default(const std::string& scene_path, bool offer_autosave);
     void open_scene(const Scene& scene);
-    // Runs a command of the table (editor/commands.h); throws InputError.
+    // Runs a command of the table (editor/commands.h); throws InputError. An
+    // apply while the run catches up to an edit (EditorSession::holding_result)
+    // waits for it: the frames go on with the run's steps, and the frame that
+    // reaches the target bakes (apply_due()). EditorSession::apply would run the
+    // rest of the run in this call, in the page one task as long as the run.
+    // Anything else that changes the document first bakes a due apply.
     void command(const std::string& name, const nlohmann::json& args = nlohmann::json::object());
+    bool apply_due() const { return apply_due_; }
     // Runs the command bound to the key; false when none is.
     bool key(const std::string& key, bool ctrl, bool shift);
     void run_script(std::vector<ScriptAction> actions);
@@ -169,6 +175,8 @@ public:
 
 private:
     CommandContext context();
+    // A due apply, now: before anything else changes the document.
+    void settle_apply();
     void integrate_for(double budget_ms);
     void integrate_in_pieces(double budget_ms);
 
@@ -190,6 +198,7 @@ private:
     double step_so_far_ms_ = 0.0;
     FramePacer pacer_;
     bool draw_due_ = true;
+    bool apply_due_ = false;  // an apply waits for the run to reach its target
     std::string load_error_, status_;
 
     enum class Drag { none, tool, orbit, pan } drag_ = Drag::none;

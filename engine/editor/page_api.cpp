@@ -146,6 +146,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
             {"target_time", s.target_time()},
             {"moving", s.moving()},
             {"holding", s.holding_result()},         // the last result on show while an edit's run catches up
+            {"apply_due", editor.apply_due()},       // an apply waits for that run to reach its target
             {"region_pending", s.region_pending()},  // an edit's s still computed in parts
             {"time_text", time_stat_text(s)},
             {"tool", tool_name(tools.tool)},

@@ -4,17 +4,13 @@
 // show, keeps rendering (the time bar, the dragged curve) and says that it is
 // updating; at t = 1 it shows the new result. The checks count what happened,
 // not how long it took.
-import { openPage, check } from './harness.mjs';
+import { openPage, openRunToEnd, check } from './harness.mjs';
 
 const { page, errors, close } = await openPage('?backend=cpu');
 const api = (fn, arg) => page.evaluate(fn, arg);
 try {
-  await api((m) => window.vfsd.open(m), 'builtin:sphere:7');
-  const s = await api(() => window.vfsd.state());
+  const s = await openRunToEnd(page, 'builtin:sphere:7');
   const c = s.control_points;
-  const region = { kind: 'geodesic', seed: c[0], g_min: 0.1 * s.diagonal, g_max: 0.45 * s.diagonal };
-  await api((scene) => window.vfsd.loadScene(scene), { region, curve: { bezier: c }, target_time: 1 });
-  await api(() => window.vfsd.runTo(1));
   const before = await api(() => window.vfsd.positionsChecksum());
 
   // Record, from inside the page: every text the time shows, the frames the page

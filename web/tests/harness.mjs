@@ -61,6 +61,20 @@ export async function openPage(query = '', viewport = { width: 1200, height: 800
   return { page, errors, log, url, close, userData };
 }
 
+// Opens `mesh` (a file or builtin name) with a geodesic region about its
+// starting curve's first knot and that curve, and runs it to t = 1: where the
+// edit tests and benches start. Returns the page's state at rest (the curve's
+// control points, the diagonal).
+export async function openRunToEnd(page, mesh) {
+  await page.evaluate((m) => window.vfsd.open(m), mesh);
+  const s = await page.evaluate(() => window.vfsd.state());
+  const c = s.control_points;
+  const region = { kind: 'geodesic', seed: c[0], g_min: 0.1 * s.diagonal, g_max: 0.45 * s.diagonal };
+  await page.evaluate((scene) => window.vfsd.loadScene(scene), { region, curve: { bezier: c }, target_time: 1 });
+  await page.evaluate(() => window.vfsd.runTo(1));
+  return s;
+}
+
 // Where tests write screenshots and downloads.
 export function outDir() {
   const dir = process.env.VFSD_WEB_OUT || fs.mkdtempSync(path.join(os.tmpdir(), 'vfsd-web-'));

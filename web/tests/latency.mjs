@@ -27,7 +27,7 @@ import { execFileSync } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { openPage, recordBrowserFrames, recordFrames, stopBrowserFrames } from './harness.mjs';
+import { openPage, openRunToEnd, recordBrowserFrames, recordFrames, stopBrowserFrames } from './harness.mjs';
 
 // Native: the scene's curve edit and region edit in ms (medians of three), on
 // `threads` threads (0: all).
@@ -125,12 +125,8 @@ for (const mesh of meshes) {
   for (const backend of backends) {
     const { page, close } = await openPage(`?backend=${backend}`);
     try {
-      await page.evaluate((m) => window.vfsd.open(m), mesh);
-      const s = await page.evaluate(() => window.vfsd.state());
+      const s = await openRunToEnd(page, mesh);
       const c = s.control_points;
-      const region = { kind: 'geodesic', seed: c[0], g_min: 0.1 * s.diagonal, g_max: 0.45 * s.diagonal };
-      await page.evaluate((scene) => window.vfsd.loadScene(scene), { region, curve: { bezier: c }, target_time: 1 });
-      await page.evaluate(() => window.vfsd.runTo(1));
       const last = c.length - 1;
       const to = (await page.evaluate((p) => window.vfsd.command({ cmd: 'project', points: [p] }),
                                       [c[last][0], c[last][1] + 0.1 * s.diagonal, c[last][2]])).pixels[0];

@@ -9,19 +9,15 @@
 //   cmake --build build/web-prof --target vfsd-web
 //   VFSD_WEB_SITE=build/web-prof/site node web/tests/profile.mjs [MESH] [ROWS]
 // (docs/web.md, "Where the page's time goes", has the figures.)
-import { openPage } from './harness.mjs';
+import { openPage, openRunToEnd } from './harness.mjs';
 
 const mesh = process.argv[2] || 'builtin:sphere:6';
 const rows = Number(process.argv[3] || 30);
 const { page, close } = await openPage('?backend=cpu');
 try {
-  await page.evaluate((m) => window.vfsd.open(m), mesh);
-  const s = await page.evaluate(() => window.vfsd.state());
+  const s = await openRunToEnd(page, mesh);
   const c = s.control_points;
   const last = c.length - 1;
-  const region = { kind: 'geodesic', seed: c[0], g_min: 0.1 * s.diagonal, g_max: 0.45 * s.diagonal };
-  await page.evaluate((scene) => window.vfsd.loadScene(scene), { region, curve: { bezier: c }, target_time: 1 });
-  await page.evaluate(() => window.vfsd.runTo(1));
   const cdp = await page.context().newCDPSession(page);
   await cdp.send('Profiler.enable');
   await cdp.send('Profiler.setSamplingInterval', { interval: 100 });  // microseconds
