@@ -6,6 +6,7 @@
 #include <string>
 
 #include "base/error.h"
+#include "base/heap.h"
 #include "cli/commands.h"
 
 namespace {
@@ -25,6 +26,7 @@ void print_usage(std::FILE* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    vfsd::keep_freed_memory();  // base/heap.h
     using namespace vfsd::cli;
     if (argc < 2) {
         print_usage(stderr);

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <string>
 
+#include "base/heap.h"
 #include "desktop/app.h"
 
 namespace {
@@ -28,6 +29,7 @@ void usage(std::FILE* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    vfsd::keep_freed_memory();  // base/heap.h
     vfsd::desktop::AppOptions options;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "base/error.h"
+#include "base/heap.h"
 #include "curve/curve_on_region.h"
 #include "deform/cpu_steps.h"
 #include "deform/quality.h"
@@ -263,6 +264,10 @@ void EditorSession::replace_document(Document doc) {
     // The picker's hierarchy now, with the rest of the opening, rather than in
     // the first pick (a drag or a stroke; 22 ms at 82k triangles).
     picker_.follow(positions(), triangles(), mesh_revision_, positions_revision_);
+    // The old document, and what its runs freed and the heap kept (base/heap.h),
+    // go back to the system: the new mesh may be far smaller.
+    doc = Document();
+    return_freed_memory();
 }
 
 // The revisions' promises (session.h), kept in one place.
