@@ -119,6 +119,20 @@ void CpuSteps::restart() {
     start_from_rest();
 }
 
+// A copy of every member: the rest state shared, the work arrays copied (the
+// outer positions in next_ and midpoints_ with them), the scratch that no step
+// reads before it writes (the fold repair's sums, the smoothing's) left out.
+std::unique_ptr<StepBackend> CpuSteps::snapshot() const {
+    auto copy = std::make_unique<CpuSteps>(*this);
+    copy->release_scratch();
+    copy->smoothing_ = SmoothingScratch();
+    return copy;
+}
+
+void CpuSteps::restore(const StepBackend& snapshot) {
+    *this = dynamic_cast<const CpuSteps&>(snapshot);  // the arrays keep their capacity
+}
+
 std::shared_ptr<const CpuRest> CpuSteps::cpu_rest() const {
     if (!rest_ || !rest_->keepers_built || (options_.gradients_at_midpoint && !rest_->estimated)) return nullptr;
     return rest_;
@@ -440,6 +454,11 @@ std::size_t CpuSteps::state_bytes() const {
            capacity_bytes(gradients_) + capacity_bytes(area_vectors_) + capacity_bytes(input_order_) +
            capacity_bytes(smoothing_.next) + capacity_bytes(smoothing_.normals) + fold_repair_.bytes(false) +
            (rest_ ? rest_->bytes() : 0);
+}
+
+std::size_t CpuSteps::snapshot_bytes() const {
+    return state_bytes() - (rest_ ? rest_->bytes() : 0) - capacity_bytes(smoothing_.next) -
+           capacity_bytes(smoothing_.normals);
 }
 
 // Throws NumericalError at the first non-finite position among those the step

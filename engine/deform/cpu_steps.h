@@ -77,6 +77,9 @@ public:
     bool restarts() const override;
     void restart() override;
     void release_scratch() override { fold_repair_.release_scratch(); }
+    std::unique_ptr<StepBackend> snapshot() const override;
+    void restore(const StepBackend& snapshot) override;
+    std::size_t snapshot_bytes() const override;
 
     // Bytes held by the deformation state: positions, work arrays, s, rings, region parts, the rest state.
     std::size_t state_bytes() const;

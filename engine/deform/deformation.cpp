@@ -126,13 +126,48 @@ bool Deformation::rewinds_to(double target) const {
     return after_low != repaired_.end() && *after_low <= high;
 }
 
+// From the latest checkpoint at or before the target, or from rest (and to
+// t = 0 always: the rest positions bit for bit).
 void Deformation::rewind(double target) {
     if (!rewinds_to(target)) return;
-    backend_->restart();
-    time_ = 0.0;
-    steps_taken_ = 0;
-    repeat_ = tries_.empty() ? std::string::npos : 0;
+    const Checkpoint* from = nullptr;
+    for (const Checkpoint& c : checkpoints_)
+        if (target > 0.0 && c.time <= target) from = &c;
+    if (from) {
+        backend_->restore(*from->state);
+        time_ = from->time;
+        steps_taken_ = from->steps_taken;
+        repeat_ = from->repeat;
+    } else {
+        backend_->restart();
+        time_ = 0.0;
+        steps_taken_ = 0;
+        repeat_ = tries_.empty() ? std::string::npos : 0;
+    }
     stepped_back_ = false;
+    on_way_out_ = true;
+    rewound_ = true;
+}
+
+// After a step of the way out from `from` to `to`, a checkpoint where the step
+// reached or passed a fifth of unit time that has none yet.
+void Deformation::keep_checkpoint(double from, double to) {
+    if (!rewound_ || !on_way_out_ || !(to > from)) return;
+    const int fifth = static_cast<int>(std::floor(to * kCheckpointsPerUnit + 1e-9));
+    if (fifth >= kCheckpointsPerUnit || fifth <= static_cast<int>(std::floor(from * kCheckpointsPerUnit + 1e-9)))
+        return;
+    const auto at = std::lower_bound(checkpoints_.begin(), checkpoints_.end(), to,
+                                     [](const Checkpoint& c, double t) { return c.time < t; });
+    const auto same_fifth = [&](const Checkpoint& c) {
+        return static_cast<int>(std::floor(c.time * kCheckpointsPerUnit + 1e-9)) == fifth;
+    };
+    if ((at != checkpoints_.end() && same_fifth(*at)) || (at != checkpoints_.begin() && same_fifth(*(at - 1)))) return;
+    if (checkpoint_bytes_ + backend_->snapshot_bytes() > kCheckpointBytes) return;
+    std::unique_ptr<StepBackend> state = backend_->snapshot();
+    if (!state) return;
+    checkpoint_bytes_ += state->snapshot_bytes();
+    const std::size_t repeat = repeat_ != std::string::npos ? repeat_ : controlled_ ? tries_.size() : repeat_;
+    checkpoints_.insert(at, Checkpoint{to, steps_taken_, repeat, std::move(state)});
 }
 
 Deformation::NextStep Deformation::next_step(double target) const {
@@ -232,13 +267,18 @@ int Deformation::advance(double target, int max_steps, double budget_ms, bool st
         }
         if (!result.taken) continue;  // tried again shorter; its time counts to the step taken
         if (next < time_) stepped_back_ = true;
+        const bool way_out_step = next > time_ && (controlled_ ? n.repeated || n.controlled
+                                                               : next == grid_time_at_or_after(next, options_.steps));
+        on_way_out_ = on_way_out_ && way_out_step;
         if (next > time_ && backend_->fold_repairs().steps_repaired != repairs) {
             const auto at = std::lower_bound(repaired_.begin(), repaired_.end(), next);
             if (at == repaired_.end() || *at != next) repaired_.insert(at, next);
         }
+        const double from = time_;
         time_ = next;
         ++steps_taken_;
         ++taken;
+        keep_checkpoint(from, next);
         if (!backend_->asynchronous()) step_ms_.push_back(milliseconds(step_start) + prepared_ms_);
         prepared_ms_ = 0.0;
         step_start = Clock::now();

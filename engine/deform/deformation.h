@@ -210,6 +210,14 @@ public:
     // set-up is done; not for the sphere tool, which then steps back.
     virtual bool restarts() const { return false; }
     virtual void restart() {}
+    // A copy of the state the steps go on from (its scratch left out), for a
+    // way back to start from instead of rest (Deformation's checkpoints); null
+    // where the backend cannot copy it (the GPU). restore() returns to it: the
+    // steps forward from there are those from the state it was copied in.
+    virtual std::unique_ptr<StepBackend> snapshot() const { return nullptr; }
+    virtual void restore(const StepBackend& /*snapshot*/) {}
+    // Bytes a snapshot() holds of its own (what it shares with this one not counted).
+    virtual std::size_t snapshot_bytes() const { return 0; }
     // Frees what a run holds only on its way (the fold repair's sums, deform/fold_repair.h):
     // Deformation::advance calls it when it reaches its target.
     virtual void release_scratch() {}
@@ -289,6 +297,7 @@ private:
     double max_error(double next, bool controlled) const;
     void note_step(double next, bool controlled, const StepResult& result);
     void rewind(double target);
+    void keep_checkpoint(double from, double to);
     // The next step toward `target`: where it ends, its bound, whether it is a
     // controlled step, and whether it repeats a try of the way out (rewind).
     struct NextStep {
@@ -305,6 +314,24 @@ private:
     // repeat its bits; none (npos) once a try does not start where it did.
     std::size_t repeat_ = std::string::npos;
     bool stepped_back_ = false;  // the positions come from steps back, not from the way out
+    // Whether the positions are the way out's: from rest (or a checkpoint) by its
+    // tries, or by fixed steps on the grid, none cut short and none back.
+    bool on_way_out_ = true;
+    // States of the way out (StepBackend::snapshot) that a way back starts from
+    // instead of rest: after the first step at or past each fifth of unit time
+    // short of 1, taken once a way back has started again (so a run never
+    // scrubbed back copies nothing), while the copies fit kCheckpointBytes.
+    struct Checkpoint {
+        double time = 0.0;
+        int steps_taken = 0;
+        std::size_t repeat = std::string::npos;  // the next of tries_ to repeat from there
+        std::unique_ptr<StepBackend> state;
+    };
+    static constexpr int kCheckpointsPerUnit = 5;
+    static constexpr std::size_t kCheckpointBytes = std::size_t(128) << 20;
+    std::vector<Checkpoint> checkpoints_;  // ascending in time
+    std::size_t checkpoint_bytes_ = 0;
+    bool rewound_ = false;  // a way back started again: checkpoints are taken from now on
     // The error-controlled schedule: every time reached forward, ascending (0
     // first); a step forward from grid_.back() is controlled, any other step
     // runs between the times already on it.
