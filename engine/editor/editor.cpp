@@ -200,7 +200,8 @@ void Editor::advance() {
     const bool working = session_->moving() || session_->region_pending();
     const FramePacer::Plan plan = pacer_.plan(now(), working, shell_.keeps_image(), shell_.renderer_busy());
     integrate_for(plan.integrate_ms);
-    if (apply_due_ && !session_->holding_result()) settle_apply();  // the run reached its target
+    // The run reached its target (or stopped short of it: a failed step).
+    if (apply_due_ && !(session_->holding_result() && session_->moving())) settle_apply();
     // While an edit's run keeps the last result on show, or its region's s is
     // computed, the image does not change: a shell that keeps its image (the
     // page) has nothing new to draw until the run ends or the region is built,
