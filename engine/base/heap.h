@@ -5,7 +5,7 @@
 // default) with fresh mappings, whose every page the kernel clears on first
 // touch, and gives them back on free. Kept in the heap instead, the next run's
 // arrays take the freed blocks as they are (docs/benchmarks.md, "Freed blocks
-// kept for the next run": the 2M cylinder's curve edit 14 % faster).
+// kept for the next run": the 2M cylinder's curve edit 9–14 % faster).
 
 namespace vfsd {
 

@@ -120,7 +120,8 @@ public:
     // waits for it: the frames go on with the run's steps, and the frame that
     // reaches the target bakes (apply_due()). EditorSession::apply would run the
     // rest of the run in this call, in the page one task as long as the run.
-    // Anything else that changes the document first bakes a due apply.
+    // Anything else that may change the document (other commands than the view's
+    // and the tool's, a press but a pan, an open, a script) first bakes a due apply.
     void command(const std::string& name, const nlohmann::json& args = nlohmann::json::object());
     bool apply_due() const { return apply_due_; }
     // Runs the command bound to the key; false when none is.
