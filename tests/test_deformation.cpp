@@ -546,7 +546,10 @@ TEST_CASE(
             }
         }
         const Float4 record{float(expected.x), float(expected.y), float(expected.z), 0.0f};
-        for (int c = 0; c < 4; ++c) mismatched += std::memcmp(&record[c], &gradients[i][c], sizeof(float)) != 0;
+        for (int c = 0; c < 4; ++c) {
+            const float want = record[c], got = gradients[i][c];  // clang takes no vector element's address
+            mismatched += std::memcmp(&want, &got, sizeof(float)) != 0;
+        }
         nonzero += expected != Vec3(0.0);
     }
     CHECK(mismatched == 0);

@@ -92,8 +92,10 @@ TEST_CASE("the fold repair untangles a vertex pushed through its neighbour and p
         CHECK(repair.stats().max_shift > 0.0);
         // The lift pulls v back across its fan (one mean edge at most) and settles it
         // toward its ring's affine image, which the ring fits reproduce: v ends
-        // far nearer its image than it was pushed.
-        CHECK(glm::length(x[v] - map(sphere.positions[v])) < 0.5 * pushed);
+        // far nearer its image than it was pushed. Over 2,400 such trials (seeds
+        // 0 to 59) it ended at most 0.61 of the way, and at 0.5 or more in 16:
+        // libc++'s draws (the WebAssembly tests) met one of those.
+        CHECK(glm::length(x[v] - map(sphere.positions[v])) < 0.7 * pushed);
     }
 }
 

@@ -121,7 +121,8 @@ TEST_CASE("NaN and Inf coordinates are refused by every reader", "[hostile][io]"
     CHECK_FALSE(std::filesystem::exists(dir.file("nan.obj")));
 }
 
-TEST_CASE("declared counts of 10 million with tiny files are refused before allocating", "[hostile][io]") {
+// [process]: each file is read in a child process under a memory limit.
+TEST_CASE("declared counts of 10 million with tiny files are refused before allocating", "[hostile][io][process]") {
     const std::string ply_vertex = "ply\nformat %s 1.0\nelement vertex 10000000\nproperty float x\nproperty float y\n"
                                    "property float z\nelement face 10000000\nproperty list uchar int vertex_indices\nend_header\n";
     auto ply = [&](const char* encoding) {

@@ -25,8 +25,6 @@ using namespace vfsd;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // The built-in box (1 x 1 x 1.2, z in [-0.6, 0.6]) with its inner region on top.
 Scene box_scene(RegionSpec::Kind region_kind, int variant, const MeshFile& file) {
     Scene scene;
