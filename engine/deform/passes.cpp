@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
@@ -297,9 +298,23 @@ void tangent_lanes(int count, GradientLanes& l) {
 // adds ±0 to every sum, which leaves it as it was), so that four rings' sums
 // run in SIMD lanes instead of one ring's five chains of additions one after
 // the other. Per vertex, the operations and their order are those of a loop
-// over its ring alone.
+// over its ring alone. Two side by side in WebAssembly, whose simd128 holds
+// two doubles: four took twice the vectors, more than stay in registers (the
+// gradient pass on the 41k sphere's blend region 0.93 → 0.75 ms in node 20,
+// the same bits; docs/web.md, "The page's SIMD").
+#if defined(__wasm_simd128__)
+constexpr int kRingLanes = 2;
+#else
 constexpr int kRingLanes = 4;
-using Double4 = double __attribute__((vector_size(4 * sizeof(double))));  // as Float4 (deform/passes.h)
+#endif
+using RingDoubles = double __attribute__((vector_size(kRingLanes * sizeof(double))));  // as Float4 (deform/passes.h)
+
+// out = get(w[j]) − minus in lane j.
+template <class Get, std::size_t... J>
+[[gnu::always_inline]] inline void ring_lanes(const std::uint32_t (&w)[kRingLanes], Get get, const RingDoubles& minus,
+                                              RingDoubles& out, std::index_sequence<J...>) {
+    out = RingDoubles{get(w[J])...} - minus;
+}
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
 __attribute__((target_clones("avx2", "default")))
 #endif
@@ -308,7 +323,7 @@ void ring_sums_lanes(const Vec3* positions, const double* s, const VertexRings& 
     const std::uint32_t* neighbours = rings.neighbours.data();
     for (int g = 0; g < count; g += kRingLanes) {
         std::uint32_t vertex[kRingLanes], begin[kRingLanes], size[kRingLanes], most = 0;
-        Double4 x, y, z, sv, t1x, t1y, t1z, t2x, t2y, t2z;
+        RingDoubles x, y, z, sv, t1x, t1y, t1z, t2x, t2y, t2z;
         for (int j = 0; j < kRingLanes; ++j) {
             const int lane = g + j < count ? g + j : g;  // lanes past the end repeat the first, unused
             const std::uint32_t v = vertices[lane];
@@ -320,15 +335,21 @@ void ring_sums_lanes(const Vec3* positions, const double* s, const VertexRings& 
             t1x[j] = l.t1.x[lane], t1y[j] = l.t1.y[lane], t1z[j] = l.t1.z[lane];
             t2x[j] = l.t2.x[lane], t2y[j] = l.t2.y[lane], t2z[j] = l.t2.z[lane];
         }
-        Double4 a11{}, a12{}, a22{}, r1{}, r2{};
+        RingDoubles a11{}, a12{}, a22{}, r1{}, r2{};
         for (std::uint32_t k = 0; k < most; ++k) {
             std::uint32_t w[kRingLanes];
             for (int j = 0; j < kRingLanes; ++j) w[j] = k < size[j] ? neighbours[begin[j] + k] : vertex[j];
-            const Double4 dx = Double4{positions[w[0]].x, positions[w[1]].x, positions[w[2]].x, positions[w[3]].x} - x;
-            const Double4 dy = Double4{positions[w[0]].y, positions[w[1]].y, positions[w[2]].y, positions[w[3]].y} - y;
-            const Double4 dz = Double4{positions[w[0]].z, positions[w[1]].z, positions[w[2]].z, positions[w[3]].z} - z;
-            const Double4 ds = Double4{s[w[0]], s[w[1]], s[w[2]], s[w[3]]} - sv;
-            const Double4 p1 = dx * t1x + dy * t1y + dz * t1z, p2 = dx * t2x + dy * t2y + dz * t2z;
+            constexpr auto lanes = std::make_index_sequence<kRingLanes>();
+            RingDoubles dx, dy, dz, ds;
+            ring_lanes(
+                w, [&](std::uint32_t v) { return positions[v].x; }, x, dx, lanes);
+            ring_lanes(
+                w, [&](std::uint32_t v) { return positions[v].y; }, y, dy, lanes);
+            ring_lanes(
+                w, [&](std::uint32_t v) { return positions[v].z; }, z, dz, lanes);
+            ring_lanes(
+                w, [&](std::uint32_t v) { return s[v]; }, sv, ds, lanes);
+            const RingDoubles p1 = dx * t1x + dy * t1y + dz * t1z, p2 = dx * t2x + dy * t2y + dz * t2z;
             a11 += p1 * p1, a12 += p1 * p2, a22 += p2 * p2;
             r1 += p1 * ds, r2 += p2 * ds;
         }

@@ -2,8 +2,8 @@
 // The field of vector_field.h (eqs. 1–4 with e, f of eqs. 9–13 and the twist
 // of eq. 14) for many points at once: the same formulas over
 // structure-of-arrays lanes, with the motion's divisions and square roots done
-// once per sample, in a loop the compiler vectorises (SSE2 or AVX on x86-64,
-// simd128 in WebAssembly). deformation_velocity stays the readable reference;
+// once per sample, in SIMD lanes (four doubles on x86-64 with AVX2, two in
+// WebAssembly's simd128). deformation_velocity stays the readable reference;
 // tests/test_vector_field.cpp holds the two together.
 
 #include "curve/inner_motion.h"
