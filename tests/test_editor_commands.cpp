@@ -286,6 +286,11 @@ TEST_CASE("Commands: the page's API answers natively through the Editor", "[edit
     CHECK(send(R"({"cmd": "key", "key": "q", "ctrl": false, "shift": false})")["handled"] == false);
     CHECK_THROWS_WITH(send(R"({"cmd": "brush", "radius": "wide"})"), Catch::Contains("radius: expected a number"));
     CHECK(send(R"({"cmd": "open", "path": "no-such-file.obj"})")["load_error"] != "");
+    // A missing file is named once, by its name, whatever folder it was looked for in.
+    const json open_missing = {{"cmd", "open"}, {"path", dir.file("folder/model.obj")}};
+    const std::string missing = page_command(editor, open_missing, page)["load_error"];
+    CHECK(missing.rfind("model.obj: cannot open", 0) == 0);
+    CHECK(missing.find("folder") == std::string::npos);
 
     // Time runs in frames, as the page's runTo waits for them.
     send(R"({"cmd": "set-time", "t": 0.5})");

@@ -16,6 +16,14 @@ bool is_brush(Tool tool) {
 
 std::string file_name(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
+// Why `path` did not open, led by its file name: a reader's message names the
+// whole path first ("/a/b/m.obj: cannot open: ..."), which the name replaces;
+// another's ("its mesh box.ply is missing") gets the name in front.
+std::string load_error_text(const std::string& path, const std::string& why) {
+    if (!path.empty() && why.rfind(path + ": ", 0) == 0) return file_name(path) + why.substr(path.size());
+    return file_name(path) + ": " + why;
+}
+
 // Commands that change only the view, the tool or its settings: they leave a due apply waiting.
 bool leaves_document(const std::string& command) {
     for (const char* c : {"tool", "brush", "brush-size", "view", "orbit", "wireframe", "screenshot", "wait-frames"})
@@ -54,7 +62,7 @@ bool Editor::open(const std::vector<std::string>& paths) {
         status_ = "opened " + file_name(path);
         return true;
     } catch (const std::exception& e) {
-        load_error_ = file_name(path) + ": " + e.what();
+        load_error_ = load_error_text(path, e.what());
         log("open failed: " + load_error_);
         return false;
     }
