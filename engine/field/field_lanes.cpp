@@ -32,7 +32,7 @@ namespace {
 // The lanes are run one point at a time (V = double), a loop GCC vectorises,
 // or in WebAssembly two points at a time (V = Doubles, simd128's two doubles):
 // there clang vectorised the scalar loop but loaded and splatted the motion's
-// 37 coefficients again for every pair of points (too many to keep in
+// 43 coefficients again for every pair of points (too many to keep in
 // registers), and the field took 9.3 ns a point against 6.0 in explicit
 // vectors (node 20; the same bits; docs/web.md, "The page's SIMD"). On x86-64
 // the explicit vectors were 7 % slower than GCC's own loop.
