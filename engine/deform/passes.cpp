@@ -321,6 +321,11 @@ __attribute__((target_clones("avx2", "default")))
 void ring_sums_lanes(const Vec3* positions, const double* s, const VertexRings& rings,
                      const std::uint32_t* vertices, int count, GradientLanes& l) {
     const std::uint32_t* neighbours = rings.neighbours.data();
+    constexpr auto lanes = std::make_index_sequence<kRingLanes>();
+    const auto x_of = [positions](std::uint32_t v) { return positions[v].x; };
+    const auto y_of = [positions](std::uint32_t v) { return positions[v].y; };
+    const auto z_of = [positions](std::uint32_t v) { return positions[v].z; };
+    const auto s_of = [s](std::uint32_t v) { return s[v]; };
     for (int g = 0; g < count; g += kRingLanes) {
         std::uint32_t vertex[kRingLanes], begin[kRingLanes], size[kRingLanes], most = 0;
         RingDoubles x, y, z, sv, t1x, t1y, t1z, t2x, t2y, t2z;
@@ -339,16 +344,9 @@ void ring_sums_lanes(const Vec3* positions, const double* s, const VertexRings& 
         for (std::uint32_t k = 0; k < most; ++k) {
             std::uint32_t w[kRingLanes];
             for (int j = 0; j < kRingLanes; ++j) w[j] = k < size[j] ? neighbours[begin[j] + k] : vertex[j];
-            constexpr auto lanes = std::make_index_sequence<kRingLanes>();
             RingDoubles dx, dy, dz, ds;
-            ring_lanes(
-                w, [&](std::uint32_t v) { return positions[v].x; }, x, dx, lanes);
-            ring_lanes(
-                w, [&](std::uint32_t v) { return positions[v].y; }, y, dy, lanes);
-            ring_lanes(
-                w, [&](std::uint32_t v) { return positions[v].z; }, z, dz, lanes);
-            ring_lanes(
-                w, [&](std::uint32_t v) { return s[v]; }, sv, ds, lanes);
+            ring_lanes(w, x_of, x, dx, lanes), ring_lanes(w, y_of, y, dy, lanes);
+            ring_lanes(w, z_of, z, dz, lanes), ring_lanes(w, s_of, sv, ds, lanes);
             const RingDoubles p1 = dx * t1x + dy * t1y + dz * t1z, p2 = dx * t2x + dy * t2y + dz * t2z;
             a11 += p1 * p1, a12 += p1 * p2, a22 += p2 * p2;
             r1 += p1 * ds, r2 += p2 * ds;
