@@ -358,20 +358,22 @@ std::vector<std::uint32_t> FoldRepair::test_affine(const std::vector<Vec3>& x, c
     });
     const std::size_t entry_count = moved ? entries.size() : at_rest_->check.size();
     parallel_for(entry_count, [&](std::size_t first, std::size_t last) {
-        for (std::size_t k = first; k < last; ++k) {
-            const std::uint32_t i = moved ? entries[k] : static_cast<std::uint32_t>(k);
-            if (!fit_measures) {
-                affine_flags_[i] = reversed_by_fit(i, x);
-                continue;
+        FitLanes lanes;
+        std::uint32_t index[kEntryLanes];
+        for (std::size_t begin = first; begin < last; begin += kEntryLanes) {
+            const int count = static_cast<int>(std::min<std::size_t>(kEntryLanes, last - begin));
+            for (int j = 0; j < count; ++j)
+                index[j] = moved ? entries[begin + j] : static_cast<std::uint32_t>(begin + j);
+            gather_fit(index, count, x, lanes);
+            fit_lanes(count, lanes);
+            for (int j = 0; j < count; ++j) {
+                const std::uint32_t i = index[j];
+                const bool tested = at_rest_->rest_fits[i].weight != 0.0;
+                const Vec3 fitted = lanes.fitted(j), image = lanes.image(j);
+                affine_flags_[i] = tested && glm::dot(fitted, image) <= 0.0;
+                if (fit_measures)
+                    (*fit_measures)[i] = tested ? fit_lift(i, fitted, image) : std::numeric_limits<double>::infinity();
             }
-            if (at_rest_->rest_fits[i].weight == 0.0) {
-                affine_flags_[i] = 0, (*fit_measures)[i] = std::numeric_limits<double>::infinity();
-                continue;
-            }
-            Vec3 fitted, image;
-            fit_images(i, x, fitted, image);
-            affine_flags_[i] = glm::dot(fitted, image) <= 0.0;
-            (*fit_measures)[i] = fit_lift(i, fitted, image);
         }
     });
     return entries;
@@ -385,40 +387,104 @@ bool FoldRepair::reversed_by_fit(std::uint32_t i, const std::vector<Vec3>& x) co
     return glm::dot(fitted, image) <= 0.0;
 }
 
-// Check entry i's area vector in x, and the one its fit gives it: A u × A w
-// with A = (J + λ/|m| m nᵀ) S (prepare_affine_test), J the stars' joint moment
-// now (joint_moment) applied to S u and S w term by term, without forming J.
+// Check entry i's area vector in x, and the one its fit gives it (fit_lanes, one lane).
 void FoldRepair::fit_images(std::uint32_t i, const std::vector<Vec3>& x, Vec3& fitted, Vec3& image) const {
-    const RestFit& fit = at_rest_->rest_fits[i];
-    const Triangle& t = at_rest_->triangles[at_rest_->check[i]];
-    const std::uint32_t j[3] = {at_rest_->fit_of[t[0]], at_rest_->fit_of[t[1]], at_rest_->fit_of[t[2]]};
-    const StarSums* now[3] = {&sums_[j[0]], &sums_[j[1]], &sums_[j[2]]};
-    const Vec3* then[3] = {&at_rest_->rest_sums[j[0]], &at_rest_->rest_sums[j[1]], &at_rest_->rest_sums[j[2]]};
-    // The corners about corner 0, now (dy) and at rest (dp), as joint_moment.
-    const Vec3 dy[3] = {Vec3(0.0), x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]};
-    const Vec3 dp[3] = {Vec3(0.0), at_rest_->rest[t[1]] - at_rest_->rest[t[0]],
-                        at_rest_->rest[t[2]] - at_rest_->rest[t[0]]};
-    // J a = Σ_c (P_c a + σ_c (dp_c·a) + dy_c (ρ_c·a + k_c dp_c·a)) − Σy (Σp·a) / K,
-    // for a = S u and S w together.
-    Vec3 sum_y(0.0), ju(0.0), jw(0.0);
-    double count = 0.0, sum_pu = 0.0, sum_pw = 0.0;
-    for (int c = 0; c < 3; ++c) {
-        const StarSums& star = *now[c];
-        const double along_u = glm::dot(dp[c], fit.u), along_w = glm::dot(dp[c], fit.w);
-        const double rest_u = glm::dot(*then[c], fit.u) + star.count * along_u,
-                     rest_w = glm::dot(*then[c], fit.w) + star.count * along_w;
-        ju += star.product * fit.u + star.sum * along_u + dy[c] * rest_u;
-        jw += star.product * fit.w + star.sum * along_w + dy[c] * rest_w;
-        sum_pu += rest_u, sum_pw += rest_w;
-        sum_y += star.sum + star.count * dy[c], count += star.count;
+    FitLanes lanes;
+    gather_fit(&i, 1, x, lanes);
+    fit_lanes(1, lanes);
+    fitted = lanes.fitted(0), image = lanes.image(0);
+}
+
+// What fit_lanes takes of check entries[0 .. count) (count ≤ kEntryLanes), lane j
+// for entries[j]: its fit at rest, and per corner c of its triangle the star's
+// sums now (with its Σ qᵢ pᵢᵀ applied to S u and S w) and at rest, and the
+// corner about corner 0, now (dy) and at rest (dp).
+void FoldRepair::gather_fit(const std::uint32_t* entries, int count, const std::vector<Vec3>& x, FitLanes& l) const {
+    const AtRest& rest = *at_rest_;
+    for (int j = 0; j < count; ++j) {
+        const RestFit& fit = rest.rest_fits[entries[j]];
+        const Triangle& t = rest.triangles[rest.check[entries[j]]];
+        for (int a = 0; a < 3; ++a) l.u[a][j] = fit.u[a], l.w[a][j] = fit.w[a];
+        l.u_normal[j] = fit.u_normal, l.w_normal[j] = fit.w_normal, l.weight[j] = fit.weight;
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t star = rest.fit_of[t[c]];
+            const StarSums& now = sums_[star];
+            const Vec3 dy = c == 0 ? Vec3(0.0) : x[t[c]] - x[t[0]];
+            const Vec3 dp = c == 0 ? Vec3(0.0) : rest.rest[t[c]] - rest.rest[t[0]];
+            // P u and P w here: fewer loads and stores than moving P's nine terms to the lanes.
+            const Vec3 pu = now.product * fit.u, pw = now.product * fit.w;
+            l.count[c][j] = now.count;
+            for (int a = 0; a < 3; ++a) {
+                l.sum[c][a][j] = now.sum[a], l.normal[c][a][j] = now.normal[a];
+                l.rest_sum[c][a][j] = rest.rest_sums[star][a];
+                l.dy[c][a][j] = dy[a], l.dp[c][a][j] = dp[a];
+                l.pu[c][a][j] = pu[a], l.pw[c][a][j] = pw[a];
+            }
+        }
     }
-    const double per_count = 1.0 / count;
-    const Vec3 turned = now[0]->normal + now[1]->normal + now[2]->normal;
-    const double length = glm::length(turned);
-    const Vec3 normal_term = length > 0.0 ? turned * (fit.weight / length) : Vec3(0.0);
-    image = glm::cross(dy[1], dy[2]);
-    fitted = glm::cross(ju - sum_y * (sum_pu * per_count) + normal_term * fit.u_normal,
-                        jw - sum_y * (sum_pw * per_count) + normal_term * fit.w_normal);
+}
+
+namespace {
+
+// a · b in lane j, in glm::dot's order.
+[[gnu::always_inline]] inline double lane_dot(const double (&a)[3][FoldRepair::kEntryLanes],
+                                              const double (&b)[3][FoldRepair::kEntryLanes], int j) {
+    return a[0][j] * b[0][j] + a[1][j] * b[1][j] + a[2][j] * b[2][j];
+}
+
+// a × b into lane j of out, in glm::cross's order.
+[[gnu::always_inline]] inline void lane_cross(const double (&a)[3], const double (&b)[3],
+                                              double (&out)[3][FoldRepair::kEntryLanes], int j) {
+    out[0][j] = a[1] * b[2] - b[1] * a[2];
+    out[1][j] = a[2] * b[0] - b[2] * a[0];
+    out[2][j] = a[0] * b[1] - b[0] * a[1];
+}
+
+}  // namespace
+
+// The affine test's images of lanes 0 .. count: A u × A w with A = (J + λ/|m| m nᵀ) S
+// (prepare_affine_test), J the stars' joint moment now (joint_moment) applied to
+// S u and S w term by term, without forming J:
+//   J a = Σ_c (P_c a + σ_c (dp_c·a) + dy_c (ρ_c·a + k_c dp_c·a)) − Σy (Σp·a) / K,
+// for a = S u and S w together. Each lane takes glm's operations in glm's
+// order (the bits of a loop over Vec3 and dmat3), so that the loop runs in SIMD
+// lanes: four doubles with AVX2 (no FMA), two in WebAssembly.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void FoldRepair::fit_lanes(int count, FitLanes& l) {
+    for (int j = 0; j < count; ++j) {
+        double sum_y[3] = {0.0, 0.0, 0.0}, ju[3] = {0.0, 0.0, 0.0}, jw[3] = {0.0, 0.0, 0.0};
+        double stars = 0.0, sum_pu = 0.0, sum_pw = 0.0;
+#pragma GCC unroll 3
+        for (int c = 0; c < 3; ++c) {
+            const double along_u = lane_dot(l.dp[c], l.u, j), along_w = lane_dot(l.dp[c], l.w, j);
+            const double rest_u = lane_dot(l.rest_sum[c], l.u, j) + l.count[c][j] * along_u,
+                         rest_w = lane_dot(l.rest_sum[c], l.w, j) + l.count[c][j] * along_w;
+#pragma GCC unroll 3
+            for (int a = 0; a < 3; ++a) {
+                ju[a] += l.pu[c][a][j] + l.sum[c][a][j] * along_u + l.dy[c][a][j] * rest_u;
+                jw[a] += l.pw[c][a][j] + l.sum[c][a][j] * along_w + l.dy[c][a][j] * rest_w;
+                sum_y[a] += l.sum[c][a][j] + l.count[c][j] * l.dy[c][a][j];
+            }
+            sum_pu += rest_u, sum_pw += rest_w, stars += l.count[c][j];
+        }
+        const double per_count = 1.0 / stars;
+        double turned[3], dy1[3], dy2[3], u[3], w[3];
+        for (int a = 0; a < 3; ++a)
+            turned[a] = l.normal[0][a][j] + l.normal[1][a][j] + l.normal[2][a][j], dy1[a] = l.dy[1][a][j],
+            dy2[a] = l.dy[2][a][j];
+        const double length = std::sqrt(turned[0] * turned[0] + turned[1] * turned[1] + turned[2] * turned[2]);
+        const bool positive = length > 0.0;
+        const double scale = l.weight[j] / (positive ? length : 1.0);  // no division by zero in lanes not taken
+        for (int a = 0; a < 3; ++a) {
+            const double normal_term = positive ? turned[a] * scale : 0.0;
+            u[a] = ju[a] - sum_y[a] * (sum_pu * per_count) + normal_term * l.u_normal[j];
+            w[a] = jw[a] - sum_y[a] * (sum_pw * per_count) + normal_term * l.w_normal[j];
+        }
+        lane_cross(dy1, dy2, l.image_lanes, j);
+        lane_cross(u, w, l.fitted_lanes, j);
+    }
 }
 
 // The entries folded by the neighbour test (`neighbour` of them), and by the
@@ -479,10 +545,16 @@ void FoldRepair::measure_lift(const std::vector<Vec3>& x, const VertexRings& rin
     lift_by_neighbours_.resize(n);
     if (flags) flags_.resize(n);
     parallel_for(n, [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) {
-            const Vec3 sum = neighbour_normal_sum(i);
-            lift_by_neighbours_[i] = neighbour_lift(i, x, sum);
-            if (flags) flags_[i] = faces_against(i, sum);
+        NeighbourLanes lanes;
+        for (std::size_t begin = first; begin < last; begin += kEntryLanes) {
+            const int count = static_cast<int>(std::min<std::size_t>(kEntryLanes, last - begin));
+            for (int j = 0; j < count; ++j) {
+                const Vec3 sum = neighbour_normal_sum(begin + j);
+                gather_neighbour_lift(begin + j, x, sum, lanes, j);
+                if (flags) flags_[begin + j] = faces_against(begin + j, sum);
+            }
+            neighbour_lift_lanes(count, lanes);
+            std::copy_n(lanes.lift, count, lift_by_neighbours_.begin() + static_cast<std::ptrdiff_t>(begin));
         }
     });
     lift_by_fit_.assign(affine_test ? n : 0, std::numeric_limits<double>::infinity());
@@ -855,21 +927,48 @@ Vec3 FoldRepair::neighbour_normal_sum(std::size_t i) const {
 }
 
 // The lift's measure of check entry i against its neighbours (normals_ for
-// theirs): N·Ŝ − c (kLiftMargin |N| + kLiftArea A), N its area vector in x, Ŝ
-// the unit sum of its neighbours' normals, c its cosine n·Ŝ at rest and A its
-// area at rest; +inf where not tested. Below 0 it is short of its target. It
-// is linear in each corner and, unlike n·Ŝ, steep for a corner pushed through
-// its triangle's base: the lift moves it back across. `sum` is
-// neighbour_normal_sum(i).
+// theirs; neighbour_lift_lanes, one lane). `sum` is neighbour_normal_sum(i).
 double FoldRepair::neighbour_lift(std::size_t i, const std::vector<Vec3>& x, const Vec3& sum) const {
+    NeighbourLanes lanes;
+    gather_neighbour_lift(i, x, sum, lanes, 0);
+    neighbour_lift_lanes(1, lanes);
+    return lanes.lift[0];
+}
+
+// Lane j of `lanes` for check entry i: its area vector in x, `sum` and its measures at rest.
+void FoldRepair::gather_neighbour_lift(std::size_t i, const std::vector<Vec3>& x, const Vec3& sum, NeighbourLanes& l,
+                                       int j) const {
     const AtRest& rest = *at_rest_;
-    const double cosine = rest.rest_cosine[i];
-    if (rest.against_at_rest[i] || !(cosine > 0.0)) return std::numeric_limits<double>::infinity();
-    const double length = glm::length(sum);
-    if (!(length > 0.0)) return std::numeric_limits<double>::infinity();
     const Triangle& t = rest.triangles[rest.check[i]];
     const Vec3 area = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
-    return glm::dot(area, sum) / length - cosine * (kLiftMargin * glm::length(area) + kLiftArea * rest.rest_area[i]);
+    for (int a = 0; a < 3; ++a) l.sum[a][j] = sum[a], l.area[a][j] = area[a];
+    l.cosine[j] = rest.rest_cosine[i], l.rest_area[j] = rest.rest_area[i];
+    l.tested[j] = !rest.against_at_rest[i] && rest.rest_cosine[i] > 0.0 ? 1.0 : 0.0;
+}
+
+// The lift's measure against the neighbours in lanes 0 .. count:
+// N·Ŝ − c (kLiftMargin |N| + kLiftArea A), N the triangle's area vector in x, Ŝ
+// the unit sum of its neighbours' normals, c its cosine n·Ŝ at rest and A its
+// area at rest; +inf where not tested (facing against its neighbours at rest,
+// or not toward them) or where the sum is 0. Below 0 it is short of its
+// target. It is linear in each corner and, unlike n·Ŝ, steep for a corner
+// pushed through its triangle's base: the lift moves it back across. In SIMD
+// lanes, each in glm's order of operations.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void FoldRepair::neighbour_lift_lanes(int count, NeighbourLanes& l) {
+    for (int j = 0; j < count; ++j) {
+        const double length =
+            std::sqrt(l.sum[0][j] * l.sum[0][j] + l.sum[1][j] * l.sum[1][j] + l.sum[2][j] * l.sum[2][j]);
+        const double area =
+            std::sqrt(l.area[0][j] * l.area[0][j] + l.area[1][j] * l.area[1][j] + l.area[2][j] * l.area[2][j]);
+        const bool taken = l.tested[j] != 0.0 && length > 0.0;
+        const double along = l.area[0][j] * l.sum[0][j] + l.area[1][j] * l.sum[1][j] + l.area[2][j] * l.sum[2][j];
+        const double lift =
+            along / (taken ? length : 1.0) - l.cosine[j] * (kLiftMargin * area + kLiftArea * l.rest_area[j]);
+        l.lift[j] = taken ? lift : std::numeric_limits<double>::infinity();
+    }
 }
 
 // The same against the image its affine fit gives it (`fitted`, with `image`

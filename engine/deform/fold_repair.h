@@ -197,6 +197,7 @@ public:
         double u_normal = 0.0, w_normal = 0.0;
         double weight = 0.0;
     };
+    static constexpr int kEntryLanes = 16;  // check entries the lift's measures take at once, in SIMD lanes
 
 private:
     std::vector<std::uint32_t> folded(const std::vector<Vec3>& x, const std::vector<std::uint32_t>* moved = nullptr);
@@ -213,7 +214,16 @@ private:
     void settle(const std::vector<std::pair<std::uint32_t, Vec3>>& lifted, std::vector<Vec3>& x,
                 const VertexRings& rings) const;
     Vec3 neighbour_normal_sum(std::size_t entry) const;
+    // The neighbour measure's inputs and results for up to kEntryLanes check entries.
+    struct NeighbourLanes {
+        double sum[3][kEntryLanes], area[3][kEntryLanes];  // [coordinate]: the neighbours' normals summed, N
+        double cosine[kEntryLanes], rest_area[kEntryLanes], tested[kEntryLanes];  // tested: 1 or 0
+        double lift[kEntryLanes];                                                 // neighbour_lift_lanes' results
+    };
     double neighbour_lift(std::size_t entry, const std::vector<Vec3>& x, const Vec3& sum) const;
+    void gather_neighbour_lift(std::size_t entry, const std::vector<Vec3>& x, const Vec3& sum, NeighbourLanes& lanes,
+                               int lane) const;
+    static void neighbour_lift_lanes(int count, NeighbourLanes& lanes);
     double fit_lift(std::size_t entry, const Vec3& fitted, const Vec3& image) const;
     bool short_of_target(std::size_t entry, double by_neighbours, double by_fit) const;
     bool faces_against_neighbours(std::size_t entry) const;
@@ -227,8 +237,22 @@ private:
     std::vector<std::uint32_t> test_affine(const std::vector<Vec3>& x, const VertexRings& rings,
                                            const std::vector<std::uint32_t>* moved,
                                            std::vector<double>* fit_measures = nullptr);
+    // The affine test's inputs and images for up to kEntryLanes check entries, one
+    // array per coordinate (lane j last), so that its arithmetic runs in SIMD lanes.
+    struct FitLanes {
+        double u[3][kEntryLanes], w[3][kEntryLanes], u_normal[kEntryLanes], w_normal[kEntryLanes], weight[kEntryLanes];
+        double count[3][kEntryLanes];                                                           // per corner c
+        double sum[3][3][kEntryLanes], normal[3][3][kEntryLanes], rest_sum[3][3][kEntryLanes];  // [c][coordinate]
+        double dy[3][3][kEntryLanes], dp[3][3][kEntryLanes];                                    // [c][coordinate]
+        double pu[3][3][kEntryLanes], pw[3][3][kEntryLanes];               // [c][coordinate]: P_c u, P_c w
+        double fitted_lanes[3][kEntryLanes], image_lanes[3][kEntryLanes];  // fit_lanes' results
+        Vec3 fitted(int j) const { return Vec3(fitted_lanes[0][j], fitted_lanes[1][j], fitted_lanes[2][j]); }
+        Vec3 image(int j) const { return Vec3(image_lanes[0][j], image_lanes[1][j], image_lanes[2][j]); }
+    };
     bool reversed_by_fit(std::uint32_t entry, const std::vector<Vec3>& x) const;
     void fit_images(std::uint32_t entry, const std::vector<Vec3>& x, Vec3& fitted, Vec3& image) const;
+    void gather_fit(const std::uint32_t* entries, int count, const std::vector<Vec3>& x, FitLanes& lanes) const;
+    static void fit_lanes(int count, FitLanes& lanes);
     std::vector<std::uint32_t> vertices_to_move(const std::vector<std::uint32_t>& folded, int rings_out,
                                                 const VertexRings& rings);
     void refit_rings(const std::vector<std::uint32_t>& vertices, std::vector<Vec3>& x, const VertexRings& rings,
