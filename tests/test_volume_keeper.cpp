@@ -3,7 +3,8 @@
 // second order in it, moves nothing outside the blend region, does nothing on an
 // open surface, and refuses area vectors that do not match its blend region. Its
 // rate is the volume's derivative along the vertices' velocities, and its
-// velocity cancels that rate.
+// velocity cancels that rate. Its sum of the volume in SIMD lanes has the bits
+// of parallel_sum over single tetrahedra.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "base/parallel.h"
 #include "deform/passes.h"
 #include "deform/volume_keeper.h"
 #include "field/vector_field.h"
@@ -174,4 +176,43 @@ TEST_CASE("the volume keeper refuses area vectors that are not one per blend ver
     area_vectors.pop_back();
     CHECK_THROWS_AS(keeper.restore(positions, area_vectors), std::invalid_argument);
     CHECK(positions == mesh.positions);
+}
+
+TEST_CASE("the volume's sum in SIMD lanes has the bits of parallel_sum over single tetrahedra", "[volume_keeper]") {
+    std::mt19937 random(31);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    std::uniform_int_distribution<std::uint32_t> corner(0, 199);
+    for (int trial = 0; trial < 8; ++trial) {
+        // Points far from the centre and from the origin, at any scale.
+        const double scale = std::pow(10.0, 3.0 * unit(random));
+        const Vec3 offset = 50.0 * scale * Vec3(unit(random), unit(random), unit(random));
+        std::vector<Vec3> p;
+        for (int i = 0; i < 200; ++i) p.push_back(offset + scale * Vec3(unit(random), unit(random), unit(random)));
+        const Vec3 centre = offset + scale * Vec3(unit(random), unit(random), unit(random));
+        std::vector<Triangle> triangles;
+        for (int i = 0; i < 3000; ++i) triangles.push_back(Triangle(corner(random), corner(random), corner(random)));
+
+        for (const Triangle& t : triangles) {
+            const double det = glm::dot(p[t.x] - centre, glm::cross(p[t.y] - centre, p[t.z] - centre));
+            REQUIRE(six_volume(p.data(), t, centre) == Approx(det).scale(scale * scale * scale));
+        }
+        // Every length of a block, its last triangles past a multiple of four included.
+        for (std::size_t count = 0; count <= 40; ++count) {
+            double sum[4] = {0.0, 0.0, 0.0, 0.0};
+            std::size_t i = 0;
+            for (; i + 4 <= count; i += 4)
+                for (int j = 0; j < 4; ++j) sum[j] += six_volume(p.data(), triangles[i + j], centre);
+            for (; i < count; ++i) sum[0] += six_volume(p.data(), triangles[i], centre);
+            INFO("trial " << trial << ", " << count << " triangles");
+            REQUIRE(six_volume_block(p.data(), triangles.data(), count, centre) ==
+                    (sum[0] + sum[1]) + (sum[2] + sum[3]));
+        }
+        // Over several blocks, as the keeper sums the moving triangles.
+        const double lanes = parallel_block_sum(triangles.size(), [&](std::size_t begin, std::size_t end) {
+            return six_volume_block(p.data(), triangles.data() + begin, end - begin, centre);
+        });
+        const double single =
+            parallel_sum(triangles.size(), [&](std::size_t i) { return six_volume(p.data(), triangles[i], centre); });
+        CHECK(lanes == single);
+    }
 }

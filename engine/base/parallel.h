@@ -31,13 +31,12 @@ constexpr std::size_t kParallelGrain = 1024;
 void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body,
                   std::size_t grain = kParallelGrain);
 
-// Σ term(i) over [0, n) in an order that depends on n alone, so the same bits on
-// any number of threads: blocks of kSumBlock terms, each summed into four
-// interleaved accumulators (no chain of dependent additions), on all threads;
-// then the blocks' sums in order.
+// Σ over [0, n) in blocks of kSumBlock items, block_sum(begin, end) giving each
+// block's sum, on all threads; then the blocks' sums in order. The order depends
+// on n alone, so the same bits on any number of threads.
 constexpr std::size_t kSumBlock = 1024;
-template <class Term>
-double parallel_sum(std::size_t n, const Term& term) {
+template <class BlockSum>
+double parallel_block_sum(std::size_t n, const BlockSum& block_sum) {
     const std::size_t blocks = (n + kSumBlock - 1) / kSumBlock;
     std::vector<double> partial(blocks);
     parallel_for(
@@ -45,18 +44,30 @@ double parallel_sum(std::size_t n, const Term& term) {
         [&](std::size_t first, std::size_t last) {
             for (std::size_t block = first; block < last; ++block) {
                 const std::size_t begin = block * kSumBlock, end = begin + kSumBlock < n ? begin + kSumBlock : n;
-                double sum[4] = {0.0, 0.0, 0.0, 0.0};
-                std::size_t i = begin;
-                for (; i + 4 <= end; i += 4)
-                    sum[0] += term(i), sum[1] += term(i + 1), sum[2] += term(i + 2), sum[3] += term(i + 3);
-                for (; i < end; ++i) sum[0] += term(i);
-                partial[block] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
+                partial[block] = block_sum(begin, end);
             }
         },
         kParallelGrain / kSumBlock);
     double total = 0.0;
     for (const double p : partial) total += p;
     return total;
+}
+
+// Σ term(i) over [0, n) by parallel_block_sum, each block summed into four
+// interleaved accumulators (no chain of dependent additions): term i into
+// accumulator i mod 4, from the block's start, the terms after the last four
+// into the first; then (a0 + a1) + (a2 + a3). A caller that computes four terms
+// at a time in SIMD lanes and sums them so has the same bits.
+template <class Term>
+double parallel_sum(std::size_t n, const Term& term) {
+    return parallel_block_sum(n, [&](std::size_t begin, std::size_t end) {
+        double sum[4] = {0.0, 0.0, 0.0, 0.0};
+        std::size_t i = begin;
+        for (; i + 4 <= end; i += 4)
+            sum[0] += term(i), sum[1] += term(i + 1), sum[2] += term(i + 2), sum[3] += term(i + 3);
+        for (; i < end; ++i) sum[0] += term(i);
+        return (sum[0] + sum[1]) + (sum[2] + sum[3]);
+    });
 }
 
 // How the pool runs one kind of job: it times the kind both ways, alternately,

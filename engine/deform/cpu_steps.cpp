@@ -176,7 +176,7 @@ StepResult CpuSteps::step(double time, double h, int step, double max_error) {
 // repair()'s own test.
 CpuSteps::FoldTest CpuSteps::settle_move(double time, double h, double max_error, bool test_all) {
     FoldTest test;
-    rest_->volume.restore(next_, area_vectors_);
+    rest_->volume.restore(next_, area_vectors_, area_norm_);
     if (!FoldRepair::repair_due(time, time + h)) return test;
     const bool affine_test = FoldRepair::affine_test_due(time, time + h);
     test.land_at = std::isfinite(max_error) ? FoldRepair::repair_time_within(time, time + h) : -1.0;
@@ -209,7 +209,8 @@ void CpuSteps::repair_folds(double time, double h, double max_error, bool measur
         if (!fold_repair_.acted() || !rest_->volume.active()) break;
         for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
             ring_area_vectors(positions_, rest_->rings, rest_->parts.blend, area_vectors_);
-            rest_->volume.restore(positions_, area_vectors_);
+            area_norm_ = rest_->volume.area_norm(area_vectors_);
+            rest_->volume.restore(positions_, area_vectors_, area_norm_);
         }
     }
 }
@@ -399,9 +400,11 @@ MotionSample CpuSteps::sample_at(double time) const {
 void CpuSteps::estimate_keeper_velocity(const std::vector<Vec3>& at, const MotionSample& sample) {
     const VolumeKeeper& keeper = rest_->volume;
     keeper_lambda_ = 0.0;
+    area_norm_ = 0.0;
     if (!keeper.active()) return;
     const double flux = blend_flux(sample, rest_->parts, gradients_, at, area_vectors_);
-    keeper_lambda_ = keeper.lambda(keeper.rate(at, flux, sample), area_vectors_);
+    area_norm_ = keeper.area_norm(area_vectors_);
+    keeper_lambda_ = keeper.lambda(keeper.rate(at, flux, sample), area_norm_);
 }
 
 // The keeper's velocity for the passes: with the area vectors of the last normal

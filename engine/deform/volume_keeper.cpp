@@ -90,18 +90,12 @@ bool VolumeKeeper::applies_to(const VertexRings& rings) {
 }
 
 double VolumeKeeper::moving_volume(const std::vector<Vec3>& p) const {
-    // Of triangle i's tetrahedron with the centre: (a − c) · ((b − c) × (d − c)), in
-    // scalars (glm's Vec3 temporaries went through the stack; the same operations
-    // in the same order).
-    const double cx = centre_.x, cy = centre_.y, cz = centre_.z;
-    const auto six_volume = [&](std::size_t i) {
-        const Triangle& t = moving_[i];
-        const Vec3 &a = p[t.x], &b = p[t.y], &d = p[t.z];
-        const double ax = a.x - cx, ay = a.y - cy, az = a.z - cz;
-        const double bx = b.x - cx, by = b.y - cy, bz = b.z - cz, dx = d.x - cx, dy = d.y - cy, dz = d.z - cz;
-        return ax * (by * dz - dy * bz) + ay * (bz * dx - dz * bx) + az * (bx * dy - dx * by);
-    };
-    return parallel_sum(moving_.size(), six_volume) / 6.0;
+    const Triangle* moving = moving_.data();
+    return parallel_block_sum(moving_.size(),
+                              [&](std::size_t begin, std::size_t end) {
+                                  return six_volume_block(p.data(), moving + begin, end - begin, centre_);
+                              }) /
+           6.0;
 }
 
 double VolumeKeeper::volume(const std::vector<Vec3>& positions) const {
@@ -126,27 +120,40 @@ double VolumeKeeper::rate(const std::vector<Vec3>& p, double blend_flux, const M
     return (six_rate + glm::dot(inner_velocity(sample, centre_), border)) / 6.0;
 }
 
-double VolumeKeeper::lambda(double rate, const std::vector<Vec3>& area_vectors) const {
-    if (!active_) return 0.0;
-    const auto weighted_square = [&](std::size_t i) { return weight_[i] * glm::dot(area_vectors[i], area_vectors[i]); };
-    const double norm = parallel_sum(blend_.size(), weighted_square) / 36.0;  // Σ w |∂V/∂x|²
-    // None where the sums are not finite (a position already so, which the step
-    // then names; the keeper does not spread it over the blend region).
-    return norm > 0.0 && std::isfinite(norm) && std::isfinite(rate) ? -rate / norm : 0.0;
+void VolumeKeeper::require_one_per_blend_vertex(const std::vector<Vec3>& area_vectors, const char* caller) const {
+    if (area_vectors.size() != blend_.size())
+        throw std::invalid_argument(std::string("VolumeKeeper::") + caller + ": " +
+                                    std::to_string(area_vectors.size()) + " area vectors for " +
+                                    std::to_string(blend_.size()) + " blend vertices");
 }
 
-double VolumeKeeper::restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors) const {
+double VolumeKeeper::area_norm(const std::vector<Vec3>& area_vectors) const {
     if (!active_) return 0.0;
-    if (area_vectors.size() != blend_.size())
-        throw std::invalid_argument("VolumeKeeper::restore: " + std::to_string(area_vectors.size()) +
-                                    " area vectors for " + std::to_string(blend_.size()) + " blend vertices");
-    const double drift = volume(positions) - rest_volume_;
+    require_one_per_blend_vertex(area_vectors, "area_norm");
     const auto weighted_square = [&](std::size_t i) {  // w |6 ∂V/∂x|² at blend vertex i
         return weight_[i] * glm::dot(area_vectors[i], area_vectors[i]);
     };
-    const double norm = parallel_sum(blend_.size(), weighted_square) / 36.0;  // Σ w |∂V/∂x|²
-    if (!(norm > 0.0)) return 0.0;
-    const double step = -drift / norm;
+    return parallel_sum(blend_.size(), weighted_square) / 36.0;
+}
+
+double VolumeKeeper::lambda(double rate, double area_norm) const {
+    if (!active_) return 0.0;
+    // None where the sums are not finite (a position already so, which the step
+    // then names; the keeper does not spread it over the blend region).
+    return area_norm > 0.0 && std::isfinite(area_norm) && std::isfinite(rate) ? -rate / area_norm : 0.0;
+}
+
+double VolumeKeeper::restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors) const {
+    return restore(positions, area_vectors, area_norm(area_vectors));
+}
+
+double VolumeKeeper::restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors,
+                             double area_norm) const {
+    if (!active_) return 0.0;
+    require_one_per_blend_vertex(area_vectors, "restore");
+    const double drift = volume(positions) - rest_volume_;
+    if (!(area_norm > 0.0)) return 0.0;
+    const double step = -drift / area_norm;
     parallel_for(blend_.size(), [&](std::size_t first, std::size_t last) {
         for (std::size_t i = first; i < last; ++i) positions[blend_[i]] += (step * weight_[i] / 6.0) * area_vectors[i];
     });

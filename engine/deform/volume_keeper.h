@@ -55,6 +55,12 @@ public:
     // the fold repair left it; std::invalid_argument if there is not one per
     // blend vertex (a caller's bug, not the user's).
     double restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors) const;
+    // The same with area_norm(area_vectors) known (the step took it for lambda()
+    // where it estimated its normals): one sum over the blend region less a step.
+    double restore(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors, double area_norm) const;
+    // Σ w |∂V/∂x|² over the blend vertices, area_vectors as for restore(): what
+    // lambda() and restore() divide by.
+    double area_norm(const std::vector<Vec3>& area_vectors) const;
 
     // dV/dt of the mesh at `positions` moving with the field of `sample`: rigid
     // on the inner region, v on the blend region, whose share of 6 dV/dt is
@@ -65,10 +71,15 @@ public:
     // step that adds it to the field keeps the volume to its own order, so that
     // restore() after it undoes only the step's error. area_vectors as for
     // restore(), where `rate` was taken; 0 where a sum is not finite.
-    double lambda(double rate, const std::vector<Vec3>& area_vectors) const;
+    double lambda(double rate, const std::vector<Vec3>& area_vectors) const {
+        return lambda(rate, area_norm(area_vectors));
+    }
+    double lambda(double rate, double area_norm) const;
 
 private:
     double moving_volume(const std::vector<Vec3>& positions) const;
+    // std::invalid_argument unless there is one area vector per blend vertex.
+    void require_one_per_blend_vertex(const std::vector<Vec3>& area_vectors, const char* caller) const;
     void find_inner_border(const std::vector<double>& s, const VertexRings& rings);
 
     bool active_ = false;
