@@ -94,8 +94,8 @@ TEST_CASE("a rest state fits only the mesh, region and options it was built for"
     const PreparedScene p = prepare_scene(b.scene, b.mesh);
     Deformation d = p.start_deformation();
     REQUIRE(d.prepare_first_step());
-    CHECK(d.cpu_rest() == nullptr);  // the keepers, but not yet the estimates at rest
-    d.prepare_first_step();
+    CHECK(d.cpu_rest() == nullptr);  // a part of the keepers, not yet the estimates at rest
+    while (d.prepare_first_step()) continue;
     const std::shared_ptr<const CpuRest> rest = d.cpu_rest();
     REQUIRE(rest != nullptr);
     const auto& positions = p.file.mesh.positions;
@@ -153,7 +153,7 @@ TEST_CASE("the sphere tool keeps no rest state, and a rest state not yet built i
     CHECK(tool.cpu_rest() == nullptr);
 
     Deformation d = p.start_deformation();
-    d.prepare_first_step();  // the keepers, not yet the estimates: not handed out
+    d.prepare_first_step();  // a part of the keepers, not yet the estimates: not handed out
     REQUIRE(d.cpu_rest() == nullptr);
     CHECK_THROWS_AS(Deformation(std::shared_ptr<const CpuRest>(), p.motion, p.scene.options), std::invalid_argument);
 }

@@ -105,7 +105,9 @@ TEST_CASE("EditorSession: a run prepared a part per frame steps as one that is n
     framed.set_target_time(0.5);
     plain.set_target_time(0.5);
     CHECK(framed.prepare_run());  // the deformation
-    CHECK(framed.prepare_run());  // the volume keeper and the fold repair, at rest
+    CHECK(framed.prepare_run());  // the volume keeper and the fold repair's checks, at rest
+    CHECK(framed.prepare_run());  // the fold repair's lift
+    CHECK(framed.prepare_run());  // the fold repair's affine test
     CHECK(framed.prepare_run());  // the first step's estimates
     CHECK_FALSE(framed.prepare_run());
     CHECK(framed.time() == 0.0);

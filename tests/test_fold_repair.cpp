@@ -2,9 +2,11 @@
 // is, untangles a fan the map turned over, puts a vertex back where the map of
 // its neighbours takes it, unfolds a needle turned over by its tiny height,
 // moves only blend vertices, and a scene it repairs gives the placed result
-// wherever it is placed.
+// wherever it is placed. Built in parts (an editor's frame a part), it repairs
+// as the one built whole.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <random>
 
 #include <glm/geometric.hpp>
@@ -96,6 +98,37 @@ TEST_CASE("the fold repair untangles a vertex pushed through its neighbour and p
         // 0 to 59) it ended at most 0.61 of the way, and at 0.5 or more in 16:
         // libc++'s draws (the WebAssembly tests) met one of those.
         CHECK(glm::length(x[v] - map(sphere.positions[v])) < 0.7 * pushed);
+    }
+}
+
+TEST_CASE("the fold repair built in parts repairs as the one built whole, bit for bit", "[deform][repair]") {
+    const TriangleMesh sphere = make_builtin_mesh("sphere", 3);
+    const VertexRings rings = build_vertex_rings(sphere);
+    std::vector<double> s;  // an inner cap, a blend band, an outer cap
+    for (const Vec3& p : sphere.positions) s.push_back(std::clamp(0.5 + p.z, 0.0, 1.0));
+    std::mt19937 random(12);
+    std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(sphere.positions.size() - 1));
+    FoldRepair parts(sphere.positions, s, rings, {}, FoldRepair::InParts{});
+    int built = 1;
+    for (; !parts.built(); ++built) REQUIRE(parts.build_part(rings));
+    CHECK(built > 1);
+    CHECK_FALSE(parts.build_part(rings));
+    const FoldRepair whole(sphere.positions, s, rings);
+    CHECK(parts.checks().check == whole.checks().check);
+    CHECK(parts.checks().neighbours == whole.checks().neighbours);
+    CHECK(parts.checks().floor == whole.checks().floor);
+    for (int trial = 0; trial < 10; ++trial) {
+        FoldRepair a = parts, b = whole;  // the state at rest shared, the work state each its own
+        std::vector<Vec3> x = mapped(sphere.positions, random_affine(random));
+        std::uint32_t v = pick(random);
+        while (!(s[v] > 0.0 && s[v] < 1.0)) v = pick(random);  // a blend vertex, pushed through a neighbour
+        const std::uint32_t n = neighbour_of(rings, v);
+        x[v] = x[n] + 0.7 * (x[n] - x[v]);
+        std::vector<Vec3> y = x;
+        CHECK(a.count_folds(x, rings, true) == b.count_folds(y, rings, true));
+        CHECK(a.repair(x, rings, trial % 2 == 0) == b.repair(y, rings, trial % 2 == 0));
+        CHECK(a.acted());
+        CHECK(x == y);
     }
 }
 

@@ -443,7 +443,9 @@ TEST_CASE("a GPU deformation takes the last one's set-up from the shelf, the sam
     std::vector<Vec3> first;
     {
         Deformation d = gpu::start_gpu_deformation(p, shelf);
-        CHECK(parts(d) == 3);  // the gauge's samples, the fold test's checks, the rest volume
+        // The gauge's samples, the fold repair in its three parts (the fold test's
+        // checks, the lift's data, the affine test's), the rest volume.
+        CHECK(parts(d) == 5);
         d.advance(1.0);
         first = d.positions();
     }
@@ -459,12 +461,12 @@ TEST_CASE("a GPU deformation takes the last one's set-up from the shelf, the sam
         CHECK(again.fold_repairs().steps_repaired == fresh.fold_repairs().steps_repaired);
         // Meanwhile the shelf is empty: a second deformation sets up its own.
         Deformation beside = gpu::start_gpu_deformation(p, shelf);
-        CHECK(parts(beside) == 3);
+        CHECK(parts(beside) == 5);
     }
     PreparedScene other = p;
     for (double& s : other.region.s) s = s > 0.0 && s < 1.0 ? 0.5 * s : s;
     Deformation elsewhere = gpu::start_gpu_deformation(other, shelf);
-    CHECK(parts(elsewhere) == 3);  // another region: the set-up beyond the passes again
+    CHECK(parts(elsewhere) == 5);  // another region: the set-up beyond the passes again
     elsewhere.advance(1.0);
     Deformation elsewhere_fresh = gpu::start_gpu_deformation(other);
     elsewhere_fresh.advance(1.0);

@@ -336,26 +336,36 @@ const std::vector<Vec3>& CpuSteps::positions() const {
     return input_order_;
 }
 
-// One piece of the work per call (the keepers, then the estimates), so that
-// each can have a frame of its own.
+// One piece of the work per call (the keepers' parts, then the estimates), so
+// that each can have a frame of its own.
 bool CpuSteps::prepare_first_step() {
-    if (build_keepers()) return true;
+    if (build_keeper_part()) return true;
     if (region_.sphere_tool || have_gradients_ || !options_.gradients_at_midpoint) return false;
     estimate_at_start(0.0);
     return true;
 }
 
 // The volume keeper and the fold repair take the rest positions: built before
-// the first step, by it or by prepare_first_step (so that the editors' frame
-// that prepares the deformation does not also pay for these), into the rest
-// state. True if built now.
-bool CpuSteps::build_keepers() {
+// the first step, by it or part by part by prepare_first_step (so that the
+// editors' frame that prepares the deformation does not also pay for these,
+// and no frame pays for all of them), into the rest state: the volume keeper
+// with the fold repair's first part, then each of the fold repair's further
+// parts. True if it built one.
+bool CpuSteps::build_keeper_part() {
     if (!rest_ || rest_->keepers_built) return false;
     CpuRest& rest = *building_;
-    rest.keepers_built = true;
-    if (options_.keep_volume) rest.volume = VolumeKeeper(rest.positions, rest.s, rest.rings, rest.parts.blend);
-    if (options_.repair_folds)
-        fold_repair_ = rest.fold_repair = FoldRepair(rest.positions, rest.s, rest.rings, rest.order);
+    if (!rest.keepers_begun) {
+        rest.keepers_begun = true;
+        if (options_.keep_volume) rest.volume = VolumeKeeper(rest.positions, rest.s, rest.rings, rest.parts.blend);
+        if (options_.repair_folds)
+            rest.fold_repair = FoldRepair(rest.positions, rest.s, rest.rings, rest.order, FoldRepair::InParts{});
+    } else {
+        rest.fold_repair.build_part(rest.rings);
+    }
+    if (rest.fold_repair.built()) {
+        rest.keepers_built = true;
+        fold_repair_ = rest.fold_repair;
+    }
     return options_.keep_volume || options_.repair_folds;
 }
 

@@ -40,8 +40,8 @@ struct CpuRest {
     std::vector<std::uint32_t> gauge_samples;  // the blend vertices the stream's gauge is fitted to
     std::vector<std::uint32_t> gauge_in_blend;  // their positions in parts.blend (their ∇r records)
     double size = 0.0;                         // centred_diameter at rest, in frame's units
-    // Built before the first step (CpuSteps::prepare_first_step), then kept.
-    bool keepers_built = false;
+    // Built before the first step (CpuSteps::prepare_first_step, a part a call), then kept.
+    bool keepers_begun = false, keepers_built = false;
     VolumeKeeper volume;
     FoldRepair fold_repair;
     bool estimated = false;                              // the estimates at rest (with midpoint gradients only)
@@ -102,7 +102,10 @@ private:
     void start_from_rest();
     double estimate_error(const MotionSample& middle, double h, double span) const;
     double motion_error(const StepMotion& full, const StepMotion& first_half, double time, double h) const;
-    bool build_keepers();
+    bool build_keeper_part();
+    void build_keepers() {
+        while (build_keeper_part()) continue;
+    }
     GaugeFit fit_stream_gauge(const std::vector<Vec3>& at) const;
     MotionSample sample_at(double time) const;
     void estimate_keeper_velocity(const std::vector<Vec3>& at, const MotionSample& sample);

@@ -102,7 +102,23 @@ AffineFit fit_affine(const std::vector<Vec3>& from, const std::vector<Vec3>& to)
 
 FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings,
                        std::vector<std::uint32_t> input_index)
-    : at_rest_(std::make_shared<AtRest>()) {
+    : FoldRepair(rest, s, rings, std::move(input_index), InParts{}) {
+    while (build_part(rings)) continue;
+}
+
+bool FoldRepair::build_part(const VertexRings& rings) {
+    if (built()) return false;
+    if (parts_built_ == 1)
+        prepare_lift();
+    else
+        prepare_affine_test(rings);
+    ++parts_built_;
+    return true;
+}
+
+FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>& s, const VertexRings& rings,
+                       std::vector<std::uint32_t> input_index, InParts)
+    : at_rest_(std::make_shared<AtRest>()), parts_built_(1) {
     at_rest_->rest = rest;
     at_rest_->input_index = std::move(input_index);
     const auto n = static_cast<std::uint32_t>(rings.vertex_count());
@@ -151,8 +167,6 @@ FoldRepair::FoldRepair(const std::vector<Vec3>& rest, const std::vector<double>&
     at_rest_->against_at_rest.assign(at_rest_->check.size(), 0);
     for (const std::uint32_t t : folded(at_rest_->rest)) at_rest_->against_at_rest[t] = 1;
     at_rest_->rest_facing = facings(at_rest_->rest);
-    prepare_lift();
-    prepare_affine_test(rings);
 }
 
 // The lift's data at rest (normals_ at rest): per vertex, the entries whose

@@ -268,6 +268,10 @@ void Editor::integrate_for(double budget_ms) {
     const auto steps_left = [&](double ms) { return int((budget_ms - ms) / std::max(ms_per_step_, 0.01)); };
     int chunk = moving_ ? std::clamp(steps_left(steps_from), 1, 250) : 1, taken = 0;
     while (chunk > 0) {
+        // A chunk that would start with the step through the affine test's time
+        // runs it whole (a call takes at least one step): the frame goes on with
+        // that step's pieces below instead.
+        if (taken > 0 && split_affine && session_->next_step_tests_affine()) break;
         // The CPU also stops after the step that spends the budget: tries found
         // over the tolerance and slower steps than the rate said (the machine
         // busy) add at most one step to the frame.

@@ -261,7 +261,8 @@ public:
 private:
     // The set-up beyond the passes (GpuRest), a part per call, so that an editor
     // can give each a frame of its own (on the page each is CPU work in wasm:
-    // 8-26 ms at 41k vertices); false once all are done. The keeper's rest volume
+    // 8-26 ms at 41k vertices, the fold repair's whole before it took parts);
+    // false once all are done. The keeper's rest volume
     // is measured on the rest positions: no step runs before the last part.
     static constexpr int kSetUpParts = 3;
     bool set_up_done() const {
@@ -282,11 +283,19 @@ private:
                     for (const std::uint32_t v : samples) r.sample_s.push_back(r.s[v]);
                 }
                 return true;
-            case 1:
+            case 1:  // the fold repair, a part per call (FoldRepair::InParts)
                 if (!options_.repair_folds) return set_up_part();
-                r.rings = reorder_rings(r.input_rings, r.order);
-                r.fold_repair = FoldRepair(gather_in_order(r.positions, r.order), r.s_in_order, r.rings, r.order);
-                r.passes.set_fold_checks(r.fold_repair.checks(), r.order);
+                if (r.fold_repair.built()) {
+                    r.rings = reorder_rings(r.input_rings, r.order);
+                    r.fold_repair = FoldRepair(gather_in_order(r.positions, r.order), r.s_in_order, r.rings, r.order,
+                                               FoldRepair::InParts{});
+                } else {
+                    r.fold_repair.build_part(r.rings);
+                }
+                if (r.fold_repair.built())
+                    r.passes.set_fold_checks(r.fold_repair.checks(), r.order);
+                else
+                    --r.parts_done;  // this part again
                 return true;
             default:
                 r.keep_volume = options_.keep_volume && VolumeKeeper::applies_to(r.input_rings);
