@@ -285,7 +285,7 @@ private:
                 return true;
             case 1:  // the fold repair, a part per call (FoldRepair::InParts)
                 if (!options_.repair_folds) return set_up_part();
-                if (r.fold_repair.built()) {
+                if (r.fold_repair.built()) {  // none begun yet: restart() leaves the empty one, which is built
                     r.rings = reorder_rings(r.input_rings, r.order);
                     r.fold_repair = FoldRepair(gather_in_order(r.positions, r.order), r.s_in_order, r.rings, r.order,
                                                FoldRepair::InParts{});
