@@ -134,7 +134,7 @@ private:
     GradientRecords gradients_;       // ∇r on the blend region
     std::vector<Vec3> area_vectors_;  // per blend vertex, where normals_ were taken: the volume keeper's ∂V/∂x
     double keeper_lambda_ = 0.0;      // λ of the keeper's velocity where normals_ were taken
-    double area_norm_ = 0.0;          // the keeper's area_norm(area_vectors_), taken with λ
+    double area_norm_ = 0.0;          // the keeper's area_norm(area_vectors_), taken wherever they are
     SmoothingScratch smoothing_;
     bool have_gradients_ = false;               // gradients_ hold the last step's ∇r
     double gradient_time_ = 0.0;                // the time gradients_ were estimated for
