@@ -250,6 +250,7 @@ void Editor::integrate_for(double budget_ms) {
     while (session_->prepare_run(budget_ms - elapsed())) {
         moving_ = false;
         step_so_far_ms_ = 0.0;
+        piece_place_ = 0;
         if (2.0 * elapsed() >= budget_ms || longest_step_ms_ > options_.split_step_ms) return;
     }
     // Where the longest of the last steps (in this run or the one before) took
@@ -286,19 +287,22 @@ void Editor::integrate_for(double budget_ms) {
     // Stopped before a step through the affine test's time: the frame goes on
     // with that step's pieces while its budget lasts.
     if (split_affine && elapsed() < budget_ms && session_->moving() && session_->next_step_tests_affine()) {
-        integrate_in_pieces(budget_ms - elapsed());
-        moving_ = moving_ || taken > 0;
+        const bool stepped = taken > 0;
+        integrate_in_pieces(budget_ms - elapsed(), stepped);
+        moving_ = moving_ || stepped;
     }
 }
 
 // Long steps in pieces (Deformation::prepare_step: ∇r and the gauge at the
 // step's middle, then the move, then at a fold repair's time the volume keeper
 // and the fold test; the step itself ends it with the volume keeper or the
-// repair), as many in a frame as leave room for the longest recent
-// piece within the budget, at least one: no frame takes much longer than the
-// budget plus one piece. The steps are the same as whole ones. On the GPU a
-// piece issues passes; the frame ends where the GPU has not finished the last.
-void Editor::integrate_in_pieces(double budget_ms) {
+// repair), as many in a frame as leave room for the next piece within the
+// budget, planned by the recent pieces of its kind (PieceTimes). A frame that
+// has done nothing yet takes at least one, so no frame takes much longer than
+// the budget plus one piece; where `after_steps`, the frame's whole steps came
+// first and count as its progress. The steps are the same as whole ones. On the
+// GPU a piece issues passes; the frame ends where the GPU has not finished the last.
+void Editor::integrate_in_pieces(double budget_ms, bool after_steps) {
     using Clock = std::chrono::steady_clock;
     const auto since = [](Clock::time_point t) {
         return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
@@ -306,6 +310,8 @@ void Editor::integrate_in_pieces(double budget_ms) {
     const Clock::time_point start = Clock::now();
     bool worked = false;
     for (;;) {
+        const PieceTimes::Kind kind{piece_place_, session_->next_step_tests_affine()};
+        if ((worked || after_steps) && since(start) + piece_times_.expected(kind) > budget_ms) break;
         const Clock::time_point piece_start = Clock::now();
         const StepPiece piece = session_->prepare_step();
         if (piece == StepPiece::waiting) {  // the GPU runs the last piece's passes: the frame ends
@@ -317,17 +323,17 @@ void Editor::integrate_in_pieces(double budget_ms) {
         if (!prepared && done == 0) break;  // at the target, or stopped
         worked = true;
         const double piece_ms = since(piece_start);
-        pieces_ms_.push_back(piece_ms);
-        if (pieces_ms_.size() > kRecentPieces) pieces_ms_.pop_front();
+        piece_times_.record(kind, piece_ms);
         step_so_far_ms_ += piece_ms;
+        ++piece_place_;
         if (done > 0) {
             ms_per_step_ = step_so_far_ms_;
             step_so_far_ms_ = 0.0;
+            piece_place_ = 0;
             longest_step_ms_ = session_->longest_recent_step_ms();
             if (longest_step_ms_ <= options_.split_step_ms) break;  // whole steps again from the next frame
         }
-        const double longest_piece = *std::max_element(pieces_ms_.begin(), pieces_ms_.end());
-        if (!session_->moving() || since(start) + longest_piece > budget_ms) break;
+        if (!session_->moving()) break;
     }
     moving_ = worked;
 }

@@ -7,7 +7,6 @@
 // (editor/session_view.h) and the Overlay, and draw their panels, whose controls
 // run the command table (editor/commands.h).
 
-#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -17,13 +16,14 @@
 
 #include "base/error.h"
 #include "editor/autosave.h"
-#include "view/camera.h"
 #include "editor/commands.h"
 #include "editor/frame_pacer.h"
 #include "editor/handle_gizmo.h"
+#include "editor/piece_times.h"
 #include "editor/script.h"
 #include "editor/session.h"
 #include "editor/tools.h"
+#include "view/camera.h"
 
 namespace vfsd::editor {
 
@@ -179,7 +179,7 @@ private:
     // A due apply, now: before anything else changes the document.
     void settle_apply();
     void integrate_for(double budget_ms);
-    void integrate_in_pieces(double budget_ms);
+    void integrate_in_pieces(double budget_ms, bool after_steps = false);
 
     Shell& shell_;
     EditorOptions options_;
@@ -193,10 +193,11 @@ private:
     bool moving_ = false;       // the last frame integrated
     bool waiting_on_gpu_ = false;   // the last frame's pieces ended waiting for the GPU
     double longest_step_ms_ = 0.0;  // the longest of the last steps (EditorSession::longest_recent_step_ms)
-    // Steps in pieces: the last pieces' times, and the pieces of the step under way so far.
-    static constexpr std::size_t kRecentPieces = 24;
-    std::deque<double> pieces_ms_;
+    // Steps in pieces: the recent pieces' times by kind, the time of the step under
+    // way so far and the place of its next piece.
+    PieceTimes piece_times_;
     double step_so_far_ms_ = 0.0;
+    int piece_place_ = 0;
     FramePacer pacer_;
     bool draw_due_ = true;
     bool apply_due_ = false;  // an apply waits for the run to reach its target
