@@ -82,9 +82,9 @@ TEST_CASE("piece times: a kind not timed yet is planned by the longest recent pi
     CHECK(times.expected({2, true}) == 20.0);
     CHECK(times.expected({1, true}) == 20.0);  // not timed: the longest of all
     // Places past the last kept count as the last: a rejected try's extra piece
-    // is planned as a step's end.
-    times.record({3, false}, 4.0);
-    CHECK(times.expected({7, false}) == 4.0);
+    // is planned as the last place's.
+    times.record({7, false}, 4.0);
+    CHECK(times.expected({12, false}) == 4.0);
     // Only a kind's last four count.
     for (int k = 0; k < 4; ++k) times.record({2, true}, 10.0);
     CHECK(times.expected({2, true}) == 10.0);

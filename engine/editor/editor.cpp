@@ -225,9 +225,11 @@ void Editor::advance() {
 // Integrates toward the target for about `budget_ms`. The region an edit left to
 // compute takes the frames' budgets first; a new deformation is prepared part by
 // part (EditorSession::prepare_run), and a frame whose parts so far took under
-// half its budget goes on to the next part or, once none is left, to the steps
-// (where steps run whole): a frame is at most one part longer than half the
-// budget, and a quick preparation costs no frame of its own. A run starts with
+// half its budget goes on to the next part, where the recent parts at its place
+// (PieceTimes) fit in what is left, or, once none is left, to the steps (where
+// steps run whole): a frame is at most one part longer than half the budget,
+// and that only where the part took longer than the ones before it at its
+// place; a quick preparation costs no frame of its own. A run starts with
 // one step, which no earlier rate predicts (the first also estimates ∇r at the
 // start); the rest of the frame is filled at the rate measured so far, so no
 // frame takes much longer than the budget plus one step. Steps are the same
@@ -247,12 +249,20 @@ void Editor::integrate_for(double budget_ms) {
     using Clock = std::chrono::steady_clock;
     const Clock::time_point start = Clock::now();
     const auto elapsed = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); };
-    while (session_->prepare_run(budget_ms - elapsed())) {
+    for (;;) {
+        const bool region_part = session_->region_pending();  // budgeted by its own work
+        const double part_from = elapsed();
+        if (!session_->prepare_run(budget_ms - part_from)) break;
         moving_ = false;
         step_so_far_ms_ = 0.0;
         piece_place_ = 0;
-        if (2.0 * elapsed() >= budget_ms || longest_step_ms_ > options_.split_step_ms) return;
+        if (!region_part) part_times_.record({part_place_++, false}, elapsed() - part_from);
+        const double next_part = session_->region_pending() ? 0.0 : part_times_.expected({part_place_, false});
+        if (2.0 * elapsed() >= budget_ms || elapsed() + next_part > budget_ms ||
+            longest_step_ms_ > options_.split_step_ms)
+            return;
     }
+    part_place_ = 0;  // prepared: the next preparation's parts count from its first
     // Where the longest of the last steps (in this run or the one before) took
     // over split_step_ms, steps run in pieces. The GPU's whole steps wait for the
     // GPU at their read-backs (on a software renderer, a page on SwiftShader, 90

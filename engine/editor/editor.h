@@ -198,6 +198,10 @@ private:
     PieceTimes piece_times_;
     double step_so_far_ms_ = 0.0;
     int piece_place_ = 0;
+    // A run's preparation (EditorSession::prepare_run): its parts' times by their
+    // place after the region's, and the place of the next.
+    PieceTimes part_times_;
+    int part_place_ = 0;
     FramePacer pacer_;
     bool draw_due_ = true;
     bool apply_due_ = false;  // an apply waits for the run to reach its target

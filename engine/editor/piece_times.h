@@ -1,6 +1,7 @@
 #pragma once
-// The times of a step's pieces (Editor::integrate_in_pieces), kept by kind, so
-// that a frame plans its next piece by the pieces like it. A step's pieces
+// The times of a step's pieces (Editor::integrate_in_pieces), or of a run's
+// preparation parts (Editor::integrate_for), kept by kind, so that a frame plans
+// its next piece by the pieces like it. A step's pieces
 // differ: its estimates, its move, at a fold repair's time the fold test, then
 // its end; and at a time of the affine test (every fifth of the run) that test's
 // piece takes two to three times as long as the others. Planned by the longest
@@ -25,7 +26,7 @@ public:
     double expected(Kind kind) const;
 
 private:
-    static constexpr int kPlaces = 4;                // places past the last count as the last
+    static constexpr int kPlaces = 8;                // places past the last count as the last
     static constexpr std::size_t kRecentOfKind = 4;  // per kind
     static constexpr std::size_t kRecent = 24;       // of any kind
     static std::size_t index(Kind kind);
