@@ -444,6 +444,54 @@ TEST_CASE("Frames: steps longer than the split limit run in pieces over frames, 
     CHECK(affine.frames_without_time == whole.frames_without_time + 3 * 5);
 }
 
+TEST_CASE(
+    "Frames: a frame's whole steps stop before the affine test's step, which runs in pieces, whatever the "
+    "chunk they fell in",
+    "[editor][frames]") {
+    // With only that step split and a budget that fits the whole run, each frame
+    // that steps ends right after a step through a time of the affine test (the
+    // pieces end the frame once that step is done). The frame after a stop two
+    // steps before such a time takes one step first (a run's first chunk), so
+    // its second chunk would start with that step: it too ends at the test's
+    // time, not at the next one. The steps are those of a run that does not stop.
+    const auto editor_on_box = [](test::ScratchDir& dir, TestShell& shell) {
+        EditorOptions options = ShellEditor::options(dir);
+        options.split_step_ms = 1e9;
+        options.split_affine_step_ms = 0.0;
+        options.step_budget_ms = options.max_frame_ms = 1e5;
+        auto editor = std::make_unique<Editor>(shell, DeformationFactory{}, "no GPU in this test", options);
+        editor->open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+        return editor;
+    };
+    const auto run_to = [](Editor& editor, double target) {
+        editor.session().set_target_time(target);
+        std::vector<double> ends;  // the times the frames that stepped ended at
+        for (int frames = 0; editor.session().moving() && frames < 10000; ++frames) {
+            const double before = editor.session().time();
+            editor.advance();
+            if (editor.session().time() != before) ends.push_back(editor.session().time());
+        }
+        CHECK(editor.session().time() == target);
+        return ends;
+    };
+    test::ScratchDir dir;
+    TestShell shell;
+    std::unique_ptr<Editor> editor = editor_on_box(dir, shell);
+    const double two_steps_before = 48.0 / 250.0;  // the 250 steps' 50th ends at t = 0.2
+    run_to(*editor, two_steps_before);
+    editor->advance();  // a frame at the target: no step, so the next run's first chunk is one step
+    const std::vector<double> ends = run_to(*editor, 1.0);
+    INFO("the frames that stepped ended at " << ::Catch::Detail::stringify(ends));
+    REQUIRE(ends.size() == 5);
+    for (std::size_t i = 0; i < ends.size(); ++i) CHECK(ends[i] == Approx(0.2 * double(i + 1)).margin(1e-12));
+
+    test::ScratchDir dir_through;
+    TestShell shell_through;
+    std::unique_ptr<Editor> through = editor_on_box(dir_through, shell_through);
+    run_to(*through, 1.0);
+    CHECK(editor->session().positions() == through->session().positions());
+}
+
 TEST_CASE("Frames: a preparation that leaves most of the frame's budget steps in the same frame", "[editor][frames]") {
     // Editor::integrate_for goes on from a preparation part to the next, and to
     // the first step, while the frame has used under half its budget: with a
