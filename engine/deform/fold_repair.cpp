@@ -221,17 +221,31 @@ void FoldRepair::prepare_lift() {
 namespace {
 
 // Star v's sums in x (about x[v]): its count, Σ yᵢ and Σ yᵢ pᵢᵀ over v and its
-// ring, pᵢ = at_rest_->rest[i] − at_rest_->rest[v], yᵢ = x[i] − x[v], and its unit normal.
+// ring, pᵢ = at_rest_->rest[i] − at_rest_->rest[v], yᵢ = x[i] − x[v], and its
+// unit normal, vertex_normal's in the same walk: its wedges' cross products
+// yᵢ × yᵢ₊₁ summed in the same order (mesh/geometry.cpp, wedge_sum), so the
+// same bits.
 FoldRepair::StarSums star_sums(const std::vector<Vec3>& rest, const std::vector<Vec3>& x, const VertexRings& rings,
                                std::uint32_t v) {
     FoldRepair::StarSums sums;
-    sums.count = double(rings.end(v) - rings.begin(v) + 1);
-    for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
-        const std::uint32_t y = rings.neighbours[k];
-        const Vec3 q = x[y] - x[v];
-        sums.sum += q, sums.product += glm::outerProduct(q, rest[y] - rest[v]);
+    const std::uint32_t begin = rings.begin(v), n = rings.end(v) - begin;
+    sums.count = double(n + 1);
+    if (n == 0) return sums;
+    const std::uint32_t* ring = rings.neighbours.data() + begin;
+    const std::uint8_t* wedge = rings.wedge.data() + begin;
+    const Vec3 centre = x[v], rest_centre = rest[v];
+    Vec3 area(0.0), a = x[ring[0]] - centre;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const Vec3 b = x[ring[i + 1 == n ? 0 : i + 1]] - centre;
+        sums.sum += a, sums.product += glm::outerProduct(a, rest[ring[i]] - rest_centre);
+        const bool closed = wedge[i];  // −0 where the wedge is open, as wedge_sum adds
+        area.x += closed ? a.y * b.z - b.y * a.z : -0.0;
+        area.y += closed ? a.z * b.x - b.z * a.x : -0.0;
+        area.z += closed ? a.x * b.y - b.x * a.y : -0.0;
+        a = b;
     }
-    sums.normal = vertex_normal(x, rings, v);
+    const double length = glm::length(area);
+    sums.normal = length > 0.0 ? area / length : Vec3(0.0);
     return sums;
 }
 
