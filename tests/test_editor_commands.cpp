@@ -619,6 +619,37 @@ TEST_CASE("Frames: an apply while a run catches up waits for it over frames and 
         CHECK_FALSE(editor.session().moving());
     }
 
+    // A press that turns the view (off the mesh, no control point there) leaves
+    // the apply to the frames; one a tool takes (the brush, on the mesh) bakes it
+    // first, as a command that changes the document does.
+    for (const bool on_mesh : {false, true}) {
+        INFO((on_mesh ? "a brush press on the mesh" : "an orbit press off the mesh"));
+        Editor editor(shell, {}, "no GPU in this test", options);
+        editor.open_default(VFSD_SOURCE_DIR "/assets/scenes/fig04-box-bend.json", false);
+        edited(editor);
+        editor.command("apply");
+        REQUIRE(editor.apply_due());
+        if (on_mesh) editor.command("tool", {{"name", "paint inner"}});
+        const Viewport v = editor.viewport();
+        const glm::dvec2 at = on_mesh ? glm::dvec2(v.width / 2.0, v.height / 2.0) : glm::dvec2(2.0, 2.0);
+        const Camera before = editor.camera();
+        editor.press(at.x, at.y, false);
+        editor.move(at.x + 30.0, at.y + 10.0);
+        editor.release();
+        if (on_mesh) {
+            CHECK_FALSE(editor.apply_due());
+            CHECK(editor.session().base_positions() == baked);
+            continue;
+        }
+        CHECK(editor.apply_due());
+        CHECK(editor.session().moving());
+        CHECK(editor.camera().view() != before.view());  // it orbited
+        int frames = 0;
+        for (; editor.apply_due() && frames < 10000; ++frames) editor.advance();
+        CHECK(frames > 2);
+        CHECK(editor.session().base_positions() == baked);
+    }
+
     // An undo right after the apply: the apply is baked first, and the undo takes
     // it back to the time it was of.
     Editor editor(shell, {}, "no GPU in this test", options);

@@ -163,7 +163,9 @@ void Editor::clean_exit() {
 
 void Editor::press(double x, double y, bool pan) {
     if (drag_ != Drag::none) return;
-    if (!pan) settle_apply();  // a tool may take the press
+    // A press a tool takes acts on the applied document: a due apply is baked
+    // first. One that turns or moves the view leaves it to the frames.
+    if (!pan && apply_due_ && tools_.takes_press(*session_, camera_, shell_.viewport(), x, y)) settle_apply();
     last_ = {x, y};
     pointer_ = last_;
     if (pan) drag_ = Drag::pan;

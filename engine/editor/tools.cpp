@@ -67,6 +67,13 @@ bool ToolController::press(EditorSession& session, const Camera& camera, const V
     }
 }
 
+bool ToolController::takes_press(const EditorSession& session, const Camera& camera, const Viewport& viewport, double x,
+                                 double y) const {
+    if (tool != Tool::navigate) return session.pick_surface(camera.ray(x, y, viewport)).has_value();
+    const auto g = gizmo(session, camera, viewport);
+    return (g && g->hit(x, y) != GizmoPart::none) || hovered_point(session, camera, viewport, x, y).has_value();
+}
+
 bool ToolController::press_navigate(EditorSession& session, const Camera& camera, const Viewport& viewport, double x,
                                     double y) {
     // The gizmo lies over the target point: it takes the press first.

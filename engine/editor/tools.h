@@ -46,6 +46,9 @@ public:
 
     // Returns true when the press starts a tool action (otherwise: camera navigation).
     bool press(EditorSession& session, const Camera& camera, const Viewport& viewport, double x, double y);
+    // Whether press() at (x, y) would start one, now, without starting it.
+    bool takes_press(const EditorSession& session, const Camera& camera, const Viewport& viewport, double x,
+                     double y) const;
     void drag(EditorSession& session, const Camera& camera, const Viewport& viewport, double x, double y);
     void release(EditorSession& session);
     bool active() const { return active_ != Active::none; }
