@@ -1,12 +1,12 @@
 #pragma once
 // The times of a step's pieces (Editor::integrate_in_pieces), or of a run's
 // preparation parts (Editor::integrate_for), kept by kind, so that a frame plans
-// its next piece by the pieces like it. A step's pieces
-// differ: its estimates, its move, at a fold repair's time the fold test, then
-// its end; and at a time of the affine test (every fifth of the run) that test's
-// piece takes two to three times as long as the others. Planned by the longest
-// of all recent pieces, a frame could start that piece with most of its budget
-// spent once the last one had left the window. Times are milliseconds.
+// its next piece by the pieces like it. A step's pieces differ: its estimates,
+// its move, at a fold repair's time the fold test, then its end; and at a time
+// of the affine test (every fifth of the run) that test's piece takes two to
+// three times as long as the others. Planned by the longest of all recent
+// pieces, a frame could start that piece with most of its budget spent once the
+// last one had left the window. Times are milliseconds.
 
 #include <array>
 #include <cstddef>
