@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cstring>
 #include <random>
 
 #include <glm/geometric.hpp>
@@ -589,4 +590,42 @@ TEST_CASE("a run keeps the affine test's sums from one test to the next and free
     CHECK(state.state_bytes() + sums <= after_first);  // freed at the target
     d.advance(0.5);                                    // a run back to its target frees them there too
     CHECK(state.state_bytes() + sums <= after_first);
+}
+
+TEST_CASE("a star's sums hold its normal as vertex_normal gives it, bit for bit, with and without a boundary",
+          "[deform][repair]") {
+    // The affine test takes each star's normal in the same ring walk as its
+    // sums (FoldRepair::star_sums) and must read the same normal the other
+    // passes take; its Σ yᵢ and Σ yᵢ pᵢᵀ are the plain sums over the ring.
+    std::mt19937 random(7);
+    for (const bool open : {false, true}) {
+        TriangleMesh mesh = test::rough_sphere(0.03, random);
+        if (open)  // a hole around the pole: the vertices on its border have an open wedge
+            mesh.triangles.erase(std::remove_if(mesh.triangles.begin(), mesh.triangles.end(),
+                                                [&](const Triangle& t) {
+                                                    return mesh.positions[t[0]].z + mesh.positions[t[1]].z +
+                                                               mesh.positions[t[2]].z >
+                                                           2.4;
+                                                }),
+                                 mesh.triangles.end());
+        const VertexRings rings = build_vertex_rings(mesh);
+        const std::vector<Vec3> x = mapped(mesh.positions, random_affine(random));
+        int open_wedges = 0;
+        for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) {
+            const FoldRepair::StarSums star = FoldRepair::star_sums(mesh.positions, x, rings, v);
+            const Vec3 normal = vertex_normal(x, rings, v);
+            REQUIRE(std::memcmp(&star.normal, &normal, sizeof normal) == 0);
+            Vec3 sum(0.0);
+            glm::dmat3 product(0.0);
+            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+                const Vec3 y = x[rings.neighbours[k]] - x[v];
+                sum += y, product += glm::outerProduct(y, mesh.positions[rings.neighbours[k]] - mesh.positions[v]);
+                open_wedges += !rings.wedge[k];
+            }
+            CHECK(star.count == double(rings.end(v) - rings.begin(v) + 1));
+            CHECK(star.sum == sum);
+            CHECK(star.product == product);
+        }
+        CHECK((open_wedges > 0) == open);
+    }
 }

@@ -218,15 +218,13 @@ void FoldRepair::prepare_lift() {
     }
 }
 
-namespace {
-
 // Star v's sums in x (about x[v]): its count, Σ yᵢ and Σ yᵢ pᵢᵀ over v and its
 // ring, pᵢ = at_rest_->rest[i] − at_rest_->rest[v], yᵢ = x[i] − x[v], and its
 // unit normal, vertex_normal's in the same walk: its wedges' cross products
 // yᵢ × yᵢ₊₁ summed in the same order (mesh/geometry.cpp, wedge_sum), so the
 // same bits.
-FoldRepair::StarSums star_sums(const std::vector<Vec3>& rest, const std::vector<Vec3>& x, const VertexRings& rings,
-                               std::uint32_t v) {
+FoldRepair::StarSums FoldRepair::star_sums(const std::vector<Vec3>& rest, const std::vector<Vec3>& x,
+                                           const VertexRings& rings, std::uint32_t v) {
     FoldRepair::StarSums sums;
     const std::uint32_t begin = rings.begin(v), n = rings.end(v) - begin;
     sums.count = double(n + 1);
@@ -248,6 +246,8 @@ FoldRepair::StarSums star_sums(const std::vector<Vec3>& rest, const std::vector<
     sums.normal = length > 0.0 ? area / length : Vec3(0.0);
     return sums;
 }
+
+namespace {
 
 // The moments of the three stars of triangle t together (points shared by two
 // stars counted twice, as reversed_triangle_list does) about their centres:

@@ -208,6 +208,9 @@ public:
         double u_normal = 0.0, w_normal = 0.0;
         double weight = 0.0;
     };
+    // Star v's sums in x against rest (about v), its normal vertex_normal's bit for bit.
+    static StarSums star_sums(const std::vector<Vec3>& rest, const std::vector<Vec3>& x, const VertexRings& rings,
+                              std::uint32_t v);
     static constexpr int kEntryLanes = 16;  // check entries the lift's measures take at once, in SIMD lanes
 
 private:
