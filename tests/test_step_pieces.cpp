@@ -27,15 +27,20 @@ const std::vector<std::string>& sources() {
 }
 
 // Every step toward `target` prepared piece by piece, then taken alone; returns
-// the steps, and the pieces prepared in `pieces`.
-int advance_in_pieces(Deformation& d, double target, int& pieces) {
+// the steps, the pieces prepared in `pieces`, and those that ended a try not
+// taken (StepPiece::retried) in `retried`.
+int advance_in_pieces(Deformation& d, double target, int& pieces, int& retried) {
     int steps = 0;
     while (d.time() != target) {
         // Back across a step the fold repair acted after, advance() starts again
         // from rest (Deformation::advance): no piece prepares that.
         if (d.rewinds_to(target)) CHECK(d.advance(target, 0) == 0);
         int before = pieces;
-        while (d.prepare_step(target) == StepPiece::done) ++pieces;
+        for (StepPiece piece; (piece = d.prepare_step(target)) != StepPiece::none;) {
+            REQUIRE(piece != StepPiece::waiting);  // the CPU's pieces do not wait
+            ++pieces;
+            retried += piece == StepPiece::retried;
+        }
         CHECK(pieces >= before + 2);  // the estimates and the move, at least
         steps += d.advance(target, 1);
     }
@@ -94,12 +99,16 @@ TEST_CASE("a step run in pieces is the step run whole, on generated scenes", "[d
             INFO(name);
             Deformation whole = p.start_deformation(), halves = p.start_deformation();
             const int whole_steps = whole.advance(1.0);
-            int pieces = 0;
-            CHECK(advance_in_pieces(halves, 1.0, pieces) == whole_steps);
+            int pieces = 0, retried = 0;
+            CHECK(advance_in_pieces(halves, 1.0, pieces, retried) == whole_steps);
             if (controlled)
                 CHECK(pieces == expected_pieces(whole.step_tries(), kSceneTolerance));
             else
                 CHECK(pieces == expected_fixed_pieces(30));
+            // A piece says so where it ended a try not taken: the next piece starts the step again.
+            int not_taken = 0;
+            for (const StepTry& t : whole.step_tries()) not_taken += !t.taken;
+            CHECK(retried == not_taken);
             CHECK(halves.positions() == whole.positions());
             CHECK(same_tries(halves.step_tries(), whole.step_tries()));
             CHECK(halves.step_errors().rejected == whole.step_errors().rejected);
@@ -109,7 +118,7 @@ TEST_CASE("a step run in pieces is the step run whole, on generated scenes", "[d
             repaired += int(whole.fold_repairs().steps_repaired);
             // Back to t = 0.4 along the times reached.
             whole.advance(0.4);
-            advance_in_pieces(halves, 0.4, pieces);
+            advance_in_pieces(halves, 0.4, pieces, retried);
             CHECK(halves.positions() == whole.positions());
         }
     }

@@ -205,7 +205,7 @@ StepPiece Deformation::prepare_step(double target) {
             note_step(n.end, n.controlled, *piece);
     }
     prepared_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return StepPiece::done;
+    return piece->taken ? StepPiece::done : StepPiece::retried;
 }
 
 // Keeps the step's estimate, and for a controlled step the time reached and the

@@ -150,6 +150,8 @@ struct StepResult {
 enum class StepPiece {
     none,     // nothing: no piece is left before the next advance() (or at the target)
     done,     // a piece of the next step
+    retried,  // a piece that ended its try (over the tolerance, or to end on a fold repair's time):
+              // nothing moved, and the next piece starts the step again
     waiting,  // nothing yet: the device is still running the last piece (ask again later)
 };
 

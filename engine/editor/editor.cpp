@@ -330,14 +330,14 @@ void Editor::integrate_in_pieces(double budget_ms, bool after_steps) {
             waiting_on_gpu_ = worked = true;
             break;
         }
-        const bool prepared = piece == StepPiece::done;
+        const bool prepared = piece == StepPiece::done || piece == StepPiece::retried;
         const int done = prepared ? 0 : session_->update(1);
         if (!prepared && done == 0) break;  // at the target, or stopped
         worked = true;
         const double piece_ms = since(piece_start);
         piece_times_.record(kind, piece_ms);
         step_so_far_ms_ += piece_ms;
-        ++piece_place_;
+        piece_place_ = piece == StepPiece::retried ? 0 : piece_place_ + 1;  // a try again starts with its first piece
         if (done > 0) {
             ms_per_step_ = step_so_far_ms_;
             step_so_far_ms_ = 0.0;
