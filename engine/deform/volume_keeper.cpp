@@ -46,7 +46,8 @@ VolumeKeeper::VolumeKeeper(const std::vector<Vec3>& rest, const std::vector<doub
             const std::uint32_t a = rings.neighbours[k], b = rings.neighbours[rings.next(v, k)];
             if (v > a || v > b) continue;  // each triangle once, from its lowest corner
             if (s[v] < 1.0 || s[a] < 1.0 || s[b] < 1.0) moving_.push_back(Triangle(v, a, b));
-            else fixed += glm::dot(rest[v] - centre_, glm::cross(rest[a] - centre_, rest[b] - centre_));
+            else
+                fixed += six_volume(rest.data(), Triangle(v, a, b), centre_);
         }
     }
     find_inner_border(s, rings);
