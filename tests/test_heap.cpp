@@ -48,3 +48,53 @@ TEST_CASE("keep_freed_memory: a freed 64 MB block is taken again from the heap, 
 }
 
 #endif
+
+#if defined(VFSD_HEAP_HUGE_PAGES)
+#include <sys/stat.h>
+
+#include <cstdint>
+#include <sstream>
+#include <string>
+
+namespace {
+
+// The flags /proc/self/smaps gives the mapping that holds `address` ("" if none does).
+std::string mapping_flags(std::uintptr_t address) {
+    std::ifstream smaps("/proc/self/smaps");
+    std::string line;
+    bool inside = false;
+    while (std::getline(smaps, line)) {
+        std::uintptr_t begin = 0, end = 0;
+        char dash = 0;
+        std::istringstream range(line);
+        if (range >> std::hex >> begin >> dash >> end && dash == '-' && line.find(':') > line.find(' ')) {
+            inside = begin <= address && address < end;
+        } else if (inside && line.rfind("VmFlags:", 0) == 0) {
+            return line.substr(8) + " ";
+        }
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("keep_freed_memory: the heap a large block grows is marked for transparent huge pages", "[heap]") {
+    struct stat info;
+    if (stat("/sys/kernel/mm/transparent_hugepage", &info) != 0) return;  // a kernel without them: nothing to mark
+    vfsd::keep_freed_memory();
+    constexpr std::size_t kBytes = std::size_t(160) << 20;  // larger than any block freed before: the heap grows
+    constexpr std::uintptr_t kHugePage = std::uintptr_t(2) << 20;
+    // Twice: the second time after the heap's freed memory went back to the
+    // system, so that the heap grows again where it had been marked before.
+    for (const bool returned : {false, true}) {
+        char* block = new char[kBytes];
+        const std::uintptr_t middle = (reinterpret_cast<std::uintptr_t>(block) + kBytes / 2) & ~(kHugePage - 1);
+        const std::string flags = mapping_flags(middle);
+        INFO("memory returned before: " << returned << "; VmFlags:" << flags);
+        CHECK(flags.find(" hg ") != std::string::npos);  // MADV_HUGEPAGE
+        delete[] block;
+        vfsd::return_freed_memory();
+    }
+}
+
+#endif
