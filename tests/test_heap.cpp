@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <memory>
 
 #include <unistd.h>
 
@@ -98,6 +99,41 @@ TEST_CASE("keep_freed_memory: the heap a large block grows is marked for transpa
         delete[] block;
         vfsd::return_freed_memory();
     }
+}
+
+#endif
+
+#if defined(VFSD_HEAP_HUGE_PAGES)
+#include <vector>
+
+TEST_CASE("keep_freed_memory: a block that grows the heap leaves marked, untouched room after it for the next ones",
+          "[heap]") {
+    struct stat info;
+    if (stat("/sys/kernel/mm/transparent_hugepage", &info) != 0) {
+        WARN("this kernel has no transparent huge pages: nothing to mark");
+        return;
+    }
+    vfsd::keep_freed_memory();
+    vfsd::return_freed_memory();
+    // A 53k mesh's array each (1.3 MB), until one grows the heap (the first
+    // may come from memory freed before).
+    constexpr std::size_t kBytes = std::size_t(1300) << 10;
+    std::vector<std::unique_ptr<char[]>> blocks;
+    std::uintptr_t grown_for = 0;
+    for (int i = 0; i < 1000 && grown_for == 0; ++i) {
+        const auto before = reinterpret_cast<std::uintptr_t>(sbrk(0));
+        blocks.emplace_back(new char[kBytes]);
+        if (reinterpret_cast<std::uintptr_t>(sbrk(0)) != before) {
+            grown_for = reinterpret_cast<std::uintptr_t>(blocks.back().get()) + kBytes;
+        }
+    }
+    REQUIRE(grown_for != 0);
+    const auto end = reinterpret_cast<std::uintptr_t>(sbrk(0));
+    INFO("the heap ends " << (end - grown_for) << " bytes after the block that grew it");
+    CHECK(end - grown_for >= (std::uintptr_t(15) << 20));  // the top pad: more than ten such arrays
+    const std::string flags = mapping_flags(grown_for + (std::uintptr_t(12) << 20));
+    INFO("VmFlags 12 MB after it:" << flags);
+    CHECK(flags.find(" hg ") != std::string::npos);  // marked before anything touched it
 }
 
 #endif

@@ -30,7 +30,9 @@ namespace vfsd {
 // heap grows by for a large block (C++'s new of 64 KiB or more) is marked for
 // transparent huge pages: a run's first touch of a fresh array then faults 2
 // MiB at a time, not 4 KiB (docs/benchmarks.md, "The heap in huge pages": the
-// 2M cylinder's first curve edit 15-40 % faster). Elsewhere does nothing.
+// 2M cylinder's first curve edit 15-40 % faster). The heap grows 16 MB beyond
+// such a block, so that the smaller arrays after it (a 53k mesh's) come from
+// marked memory too. Elsewhere does nothing.
 // Programs call it first thing (cli/main.cpp, desktop/main.cpp).
 void keep_freed_memory();
 
