@@ -49,6 +49,16 @@ double StepControl::retry_length(double h, double error, double tolerance) {
     return std::max(std::abs(h) * factor, kShortestStep);
 }
 
+double StepControl::foreseen_length(double h, double length, double last, double coefficient, double apart,
+                                    double tolerance) {
+    if (!(coefficient > last && last > 0.0 && apart > 0.0)) return length;
+    const double rate = std::log(coefficient / last) / apart;  // per unit time
+    const double ahead = coefficient * std::exp(rate * 0.5 * (std::abs(h) + length));
+    const double foreseen = kSafety * std::sqrt(tolerance / ahead);
+    const double shortest = std::min(length, std::max(kMostShrink * std::abs(h), kShortestStep));
+    return std::max(std::min(length, foreseen), shortest);
+}
+
 NumericalError nonfinite_position(std::size_t vertex, int step, double time) {
     return NumericalError("integration step " + std::to_string(step) + " (t = " + std::to_string(time) +
                           ") made vertex " + std::to_string(vertex) + " non-finite; the mesh before that step is kept");
@@ -234,6 +244,13 @@ void Deformation::note_step(double next, bool controlled, const StepResult& resu
     const bool cut_short = h < next_length_ * (1.0 - 1e-9);
     next_length_ = cut_short ? std::max(next_length_ * std::min(1.0, length / h), length) : length;
     if (just_rejected_) next_length_ = std::min(next_length_, h);
+    // Two taken steps in a row whose estimates' coefficient grew: the next is
+    // as long as the coefficient foreseen at its middle allows.
+    const double coefficient = result.error > 0.0 ? result.error / (h * h) : -1.0, middle = time_ + 0.5 * h;
+    if (!just_rejected_ && last_coefficient_ > 0.0)
+        next_length_ = StepControl::foreseen_length(h, next_length_, last_coefficient_, coefficient,
+                                                    middle - last_middle_, options_.tolerance);
+    last_coefficient_ = coefficient, last_middle_ = middle;
     just_rejected_ = false;
 }
 
