@@ -1,6 +1,6 @@
 // vfsd bench [--quick] [--only TEXT] [--markdown FILE] [--data FILE] [--steps N] [--repeat N] [--busy]
 // (vfsd bench --picking: command_bench_picking.cpp; --latency: command_bench_latency.cpp;
-// --gpu-schemes: command_bench_gpu.cpp)
+// --gpu-schemes: command_bench_gpu.cpp; --fold-tests: command_bench_fold_tests.cpp)
 //
 // Reproduces the paper's timing table (sec. 7.1) with our models: per mesh,
 // a bending deformation of 250 RK4 steps with 10 smoothing steps, timed per
@@ -219,6 +219,7 @@ int run_bench(const Args& args) {
     if (args.has("picking")) return run_picking_bench(args);
     if (args.has("latency")) return run_latency_bench(args);
     if (args.has("gpu-schemes")) return run_gpu_schemes_bench(args);
+    if (args.has("fold-tests")) return run_fold_tests_bench(args);
     args.expect({"quick", "only", "markdown", "data", "steps", "repeat", "no-gpu", "busy"}, 0, 0);
     const bool quick = args.has("quick");
     const int steps = static_cast<int>(args.get_number("steps", quick ? 10 : 250));

@@ -75,6 +75,7 @@ const std::vector<Command>& commands() {
          "       vfsd bench --latency [--quick] [--only TEXT | --scene FILE] [--tolerance T | --steps N]\n"
          "                            [--reference-steps N] [--repeat N] [--threads N | --busy] [--no-reference]\n"
          "       vfsd bench --gpu-schemes [--only TEXT | --scene FILE] [--steps N]\n"
+         "       vfsd bench --fold-tests [--mesh SPEC] [--time T] [--repeat N]\n"
          "\n"
          "Per mesh: a 45-degree bend of 250 RK4 steps (10 smoothing steps each), ms per step\n"
          "(median and spread over --repeat runs; the terminal also prints the mean) on one\n"
@@ -100,7 +101,12 @@ const std::vector<Command>& commands() {
          "\n"
          "vfsd bench --gpu-schemes times the GPU path: ms per step for sec. 5's passes, then\n"
          "with the gauge fit, the volume keeper and the fold repair added, and edit to final\n"
-         "shape with error-controlled steps.\n",
+         "shape with error-controlled steps.\n"
+         "\n"
+         "vfsd bench --fold-tests times the fold repair's tests (the neighbour test alone\n"
+         "and with the affine test) on vfsd bench's bend of --mesh (default the 53k\n"
+         "cylinder) run to --time T (default 0.5): medians of N (default 40) on all threads\n"
+         "and on one, and how many triangles each found short of the lift's target.\n",
          run_bench},
         {"battery", "deform generated scenes nobody tuned and measure folds, volume, rigidity",
          "usage: vfsd battery --out DIR [--seed N] [--count K] [--mesh-dir DIR [--any-mesh] | --mesh SPEC] [--coarse]\n"

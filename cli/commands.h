@@ -60,6 +60,7 @@ int run_battery(const Args& args);
 int run_picking_bench(const Args& args);  // vfsd bench --picking
 int run_latency_bench(const Args& args);  // vfsd bench --latency
 int run_gpu_schemes_bench(const Args& args);  // vfsd bench --gpu-schemes
+int run_fold_tests_bench(const Args& args);   // vfsd bench --fold-tests
 
 // vfsd bench's deformation of a mesh: the top 15 % of its longest axis bent by
 // about 45° (s = 0 there, 1 on the bottom 40 %, linear between).

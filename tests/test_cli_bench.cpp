@@ -40,6 +40,31 @@ TEST_CASE("vfsd bench --picking runs and its hierarchy agrees with the loop", "[
     CHECK(std::system(command.c_str()) == 0);
 }
 
+TEST_CASE("vfsd bench --fold-tests times the fold tests and finds the same on every thread count", "[bench][cli]") {
+    // Exit 0 only when the tests found the same triangles on all threads and on one.
+    vfsd::test::ScratchDir dir;
+    const std::string command = std::string("'") + VFSD_CLI_PATH +
+                                "' bench --fold-tests --mesh builtin:cylinder:24 --time 1 --repeat 2 >'" +
+                                dir.file("out.txt") + "'";
+    REQUIRE(std::system(command.c_str()) == 0);
+    std::ifstream out(dir.file("out.txt"));
+    std::stringstream text;
+    text << out.rdbuf();
+    CHECK(text.str().find("checked triangles") != std::string::npos);
+    // The jittered shape's row on one thread: its tests find short triangles, the affine test more.
+    const std::size_t row = text.str().rfind("jittered");
+    REQUIRE(row != std::string::npos);
+    std::istringstream fields(text.str().substr(row));
+    std::string shape, ms, slash;
+    unsigned threads = 0;
+    double neighbour_ms = 0.0, both_ms = 0.0;
+    std::size_t neighbour_short = 0, both_short = 0;
+    fields >> shape >> threads >> neighbour_ms >> ms >> both_ms >> ms >> neighbour_short >> slash >> both_short;
+    CHECK(threads == 1);
+    CHECK(neighbour_short > 0);
+    CHECK(both_short >= neighbour_short);
+}
+
 TEST_CASE("vfsd bench --busy runs beside a busy process and ends it", "[bench][cli]") {
     vfsd::test::ScratchDir dir;
     const std::string command = std::string("'") + VFSD_CLI_PATH + "' bench --quick --no-gpu --busy --data '" +
