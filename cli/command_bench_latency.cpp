@@ -13,7 +13,8 @@
 // - the way back: from the run with the rest state kept, at t = 1, the time
 //   dragged back to 0.9, 0.8, ..., 0.1, one after the other (where the fold
 //   repair acted on the way, each way back across it repeats the way out from
-//   rest, or from a checkpoint: deform/deformation.h); the steps in brackets.
+//   rest, or from a checkpoint: deform/deformation.h); the steps in brackets,
+//   and the first of them (back to 0.9) apart.
 // Against a reference of N fixed steps (default 2000) on the same prepared scene:
 // the largest and the 99.9th-percentile vertex distance, over the mesh's size
 // (centred_diameter, the tolerance's unit), and the folds of both. Timings are
@@ -157,8 +158,8 @@ Deformation start_from(const std::shared_ptr<const CpuRest>& rest, PreparedScene
 
 // One case's timings (ms) over the repeats, and the way back's steps.
 struct EditTimes {
-    std::vector<double> region, curve_edit, rest_kept, region_edit, way_back;
-    int way_back_steps = 0;
+    std::vector<double> region, curve_edit, rest_kept, region_edit, way_back, first_back;
+    int way_back_steps = 0, first_back_steps = 0;
 };
 
 // One repeat of a case's edits, timed into `times`: the region, the curve edit
@@ -194,7 +195,10 @@ Run time_edits(const LatencyCase& c, const OpenMesh& open, double tolerance, int
     // The time dragged back from there in tenths.
     const auto back = Clock::now();
     times.way_back_steps = 0;
-    for (int tenth = 9; tenth >= 1; --tenth) times.way_back_steps += d.advance(tenth / 10.0);
+    for (int tenth = 9; tenth >= 1; --tenth) {
+        times.way_back_steps += d.advance(tenth / 10.0);
+        if (tenth == 9) times.first_back.push_back(ms_since(back)), times.first_back_steps = times.way_back_steps;
+    }
     times.way_back.push_back(ms_since(back));
     return run;
 }
@@ -239,9 +243,9 @@ int run_latency_bench(const Args& args) {
         std::printf("a busy process runs beside the bench; all %u threads and one take turns\n",
                     parallel_thread_count());
     }
-    std::printf("%-30s %9s %9s %10s %10s %11s %6s %8s %11s %11s %12s %17s\n", "scene", "vertices", "region",
+    std::printf("%-30s %9s %9s %10s %10s %11s %6s %8s %11s %11s %12s %17s %17s\n", "scene", "vertices", "region",
                 "curve edit", "rest kept", "region edit", "steps", "rejected", "max dev", "99.9% dev", "folds / ref",
-                "way back (steps)");
+                "way back (steps)", "first (steps)");
     for (const LatencyCase& c : cases(quick, scene)) {
         if (!only.empty() && c.name.find(only) == std::string::npos) continue;
         const OpenMesh open = c.open();
@@ -277,10 +281,11 @@ int run_latency_bench(const Args& args) {
                 busy ? c.name + (limits[k] == 1 ? " [1 thread]"
                                                 : " [" + std::to_string(parallel_thread_count()) + " threads]")
                      : c.name;
-            std::printf("%-30s %9zu %6.1f ms %7.1f ms %7.1f ms %8.1f ms %6d %8d %11s %11s %12s %8.1f ms (%4d)\n",
-                        name.c_str(), p.file.mesh.vertex_count(), median(t.region), median(t.curve_edit),
-                        median(t.rest_kept), median(t.region_edit), run.steps, run.errors.rejected, deviation[0],
-                        deviation[1], fold_text, median(t.way_back), t.way_back_steps);
+            std::printf(
+                "%-30s %9zu %6.1f ms %7.1f ms %7.1f ms %8.1f ms %6d %8d %11s %11s %12s %8.1f ms (%4d) %8.1f ms (%4d)\n",
+                name.c_str(), p.file.mesh.vertex_count(), median(t.region), median(t.curve_edit), median(t.rest_kept),
+                median(t.region_edit), run.steps, run.errors.rejected, deviation[0], deviation[1], fold_text,
+                median(t.way_back), t.way_back_steps, median(t.first_back), t.first_back_steps);
         }
         if (busy)
             std::printf("%-30s all threads over one: curve edit %.2f, rest kept %.2f, region edit %.2f\n",

@@ -495,9 +495,10 @@ TEST_CASE("scrubbing back across the fold repair shows the way out's shapes, and
 
 TEST_CASE("a way back starts from the latest checkpoint at or before its target: the way out's shapes, fewer steps",
           "[deform][repair][steps]") {
-    // The first way back across the repair starts again from rest and keeps
-    // checkpoints of the way out it repeats (after the first step at or past each
-    // fifth of unit time); a later way back starts from the latest one at or
+    // Where the repair has acted, the way out keeps a checkpoint after the first
+    // step at or past the last fifth of unit time short of its target, and a
+    // way back that started again from rest one at each fifth it passes; a way
+    // back across the repair, the first too, starts from the latest one at or
     // before its target: the same bits in fewer steps than from rest.
     Scene scene = test::folding_box_scene();  // folds without the repair
     scene.options.repair_folds = true;
@@ -514,16 +515,24 @@ TEST_CASE("a way back starts from the latest checkpoint at or before its target:
             while (k + 1 < way_out.size() && way_out[k + 1].first <= t) ++k;
             return k;
         };
-        const std::size_t late = index_before(0.95), early = index_before(0.5);
+        // The first step at or past t, where the checkpoint for t's fifth is taken.
+        const auto checkpoint = [&](double t) {
+            return index_before(t) + (way_out[index_before(t)].first < t ? 1 : 0);
+        };
+        Deformation probe = p.start_deformation();  // the repair acted by the checkpoint at 0.8
+        probe.advance(way_out[checkpoint(0.8)].first);
+        REQUIRE(probe.fold_repairs().steps_repaired > 0);
+        const std::size_t late = index_before(0.95), early = index_before(0.5), earlier = index_before(0.3);
         REQUIRE(d.rewinds_to(way_out[late].first));
-        CHECK(d.advance(way_out[late].first) == int(late));  // from rest
+        CHECK(d.advance(way_out[late].first) == int(late - checkpoint(0.8)));  // the way out's own checkpoint
         CHECK(d.positions() == way_out[late].second);
         REQUIRE(d.rewinds_to(way_out[early].first));
-        const int taken = d.advance(way_out[early].first);
+        CHECK(d.advance(way_out[early].first) == int(early));  // none at or before 0.5 yet: from rest
         CHECK(d.positions() == way_out[early].second);
-        // From the checkpoint after the first step at or past 0.4.
-        const std::size_t checkpoint = index_before(0.4) + (way_out[index_before(0.4)].first < 0.4 ? 1 : 0);
-        CHECK(taken == int(early - checkpoint));
+        REQUIRE(d.rewinds_to(way_out[earlier].first));
+        const int taken = d.advance(way_out[earlier].first);
+        CHECK(d.positions() == way_out[earlier].second);
+        CHECK(taken == int(earlier - checkpoint(0.2)));  // kept on the way back from rest
         d.advance(0.0);
         CHECK(d.positions() == p.file.mesh.positions);
         d.advance(1.0);

@@ -33,8 +33,9 @@ int advance_in_pieces(Deformation& d, double target, int& pieces, int& retried) 
     int steps = 0;
     while (d.time() != target) {
         // Back across a step the fold repair acted after, advance() starts again
-        // from rest (Deformation::advance): no piece prepares that.
+        // from rest or a checkpoint (Deformation::advance): no piece prepares that.
         if (d.rewinds_to(target)) CHECK(d.advance(target, 0) == 0);
+        if (d.time() == target) break;  // from a checkpoint taken at the target itself
         int before = pieces;
         for (StepPiece piece; (piece = d.prepare_step(target)) != StepPiece::none;) {
             REQUIRE(piece != StepPiece::waiting);  // the CPU's pieces do not wait

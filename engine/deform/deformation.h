@@ -311,7 +311,7 @@ private:
     double max_error(double next, bool controlled) const;
     void note_step(double next, bool controlled, const StepResult& result);
     void rewind(double target);
-    void keep_checkpoint(double from, double to);
+    void keep_checkpoint(double from, double to, double target);
     // The next step toward `target`: where it ends, its bound, whether it is a
     // controlled step, and whether it repeats a try of the way out (rewind).
     struct NextStep {
@@ -333,8 +333,10 @@ private:
     bool on_way_out_ = true;
     // States of the way out (StepBackend::snapshot) that a way back starts from
     // instead of rest: after the first step at or past each fifth of unit time
-    // short of 1, taken once a way back has started again (so a run never
-    // scrubbed back copies nothing), while the copies fit kCheckpointBytes.
+    // short of 1 once a way back has started again, and before that, once the
+    // fold repair has acted, at the last fifth short of the target alone (so a
+    // run the repair leaves alone copies nothing), while the copies fit
+    // kCheckpointBytes.
     struct Checkpoint {
         double time = 0.0;
         int steps_taken = 0;
@@ -345,7 +347,7 @@ private:
     static constexpr std::size_t kCheckpointBytes = std::size_t(128) << 20;
     std::vector<Checkpoint> checkpoints_;  // ascending in time
     std::size_t checkpoint_bytes_ = 0;
-    bool rewound_ = false;  // a way back started again: checkpoints are taken from now on
+    bool rewound_ = false;  // a way back started again
     // The error-controlled schedule: every time reached forward, ascending (0
     // first); a step forward from grid_.back() is controlled, any other step
     // runs between the times already on it.
