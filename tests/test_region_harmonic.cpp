@@ -156,6 +156,48 @@ TEST_CASE("harmonic blend's direct factorisation, where the iteration stops unco
     }
 }
 
+TEST_CASE("harmonic blend's iterations do not grow with the mesh's resolution", "[region][harmonic]") {
+    // The square with a disc inside (s = 0) and its border outside (s = 1), the
+    // start eq. (16) gives, at 20 to 160 vertices across. Conjugate gradients
+    // with Jacobi alone take about as many iterations as the blend region is
+    // rings across (335 on the raised claw); the coarse correction on aggregates
+    // takes out the smooth part of the error at every resolution alike.
+    std::vector<long> iterations;
+    for (const int n : {20, 40, 80, 160}) {
+        const TriangleMesh m = grid_mesh(n, 1.0);
+        const VertexRings rings = build_vertex_rings(m);
+        std::vector<std::uint8_t> inner(m.positions.size()), outer(m.positions.size());
+        for (std::size_t v = 0; v < m.positions.size(); ++v) {
+            const Vec3& p = m.positions[v];
+            inner[v] = glm::length(p - Vec3(0.4, 0.5, 0.0)) < 0.15;
+            outer[v] = p.x < 0.05 || p.x > 0.95 || p.y < 0.05 || p.y > 0.95;
+        }
+        const std::vector<double> s = painted_region_field(m.positions, rings, inner, outer).s;
+        HarmonicBlend blend(m.positions, rings, s);
+        blend.iterate(std::numeric_limits<double>::infinity());
+        iterations.push_back(blend.iterations());
+        // Converged: each blend vertex the weighted mean of its ring (its cotangent
+        // weights are those of the grid's right triangles: 1 on the legs, 0 on the diagonal).
+        const std::vector<double>& h = blend.s();
+        double worst = 0.0;
+        for (std::uint32_t v = 0; v < h.size(); ++v) {
+            if (!in_blend(s[v])) continue;
+            double sum = 0.0, count = 0.0;
+            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) {
+                const Vec3 edge = m.positions[rings.neighbours[k]] - m.positions[v];
+                if (std::abs(edge.x) > 1e-12 && std::abs(edge.y) > 1e-12) continue;  // a diagonal
+                sum += h[rings.neighbours[k]], count += 1.0;
+            }
+            worst = std::max(worst, std::abs(h[v] - sum / count));
+        }
+        CAPTURE(n, iterations.back());
+        CHECK(worst < 1e-9);
+    }
+    CAPTURE(iterations[0], iterations[1], iterations[2], iterations[3]);
+    CHECK(iterations[3] < 120);
+    CHECK(iterations[3] < 2 * iterations[0]);  // Jacobi alone: 73 to 510, growing as the region is rings across
+}
+
 TEST_CASE("harmonic blend has no kink where eq. (16)'s geodesic distances meet", "[region][harmonic]") {
     // A square with the inner region a disc and the outer region a U round it
     // (the right edge, the top and the bottom): the distance to the outer region

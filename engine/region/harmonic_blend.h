@@ -19,6 +19,7 @@
 // cannot push s out of [0, 1]).
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "mesh/vertex_rings.h"
@@ -47,6 +48,8 @@ public:
     // True once s is final.
     bool iterate(double budget_ms);
     bool done() const { return done_; }
+    // Conjugate-gradient iterations so far.
+    long iterations() const { return iterations_; }
     // s: final once done(), the starting values before.
     const std::vector<double>& s() const { return s_; }
     std::vector<double> take() { return std::move(s_); }
@@ -55,6 +58,14 @@ private:
     void finish();
     double product_with_direction();  // product_ = A · direction_; returns direction_ · product_
     void solve_directly();
+    void build_coarse_space();
+    double precondition();  // preconditioned_ = M⁻¹ residual_; returns residual_ · preconditioned_
+
+    // The coarse space of the two-level preconditioner: aggregates of about a
+    // vertex's ring and the system on them, factorised (harmonic_blend.cpp);
+    // none where that system did not factorise (Jacobi alone).
+    struct CoarseSpace;
+    std::shared_ptr<const CoarseSpace> coarse_;
 
     std::vector<double> s_;
     std::vector<std::uint32_t> unknowns_;  // the blend vertices solved for, in the system's order
@@ -62,11 +73,13 @@ private:
     // (−w_ij) as columns and weights from row_offsets_[i] to row_offsets_[i + 1].
     std::vector<double> diagonal_, weights_;
     std::vector<std::uint32_t> row_offsets_, columns_;
-    // Jacobi-preconditioned conjugate gradients (as Eigen's ConjugateGradient
-    // runs them, whose state lives only inside one call; here each iteration is
-    // three passes over the unknowns instead of eight): the iterate, the right-hand
-    // side, the residual, the search direction, its product with A, and r·z.
-    std::vector<double> x_, rhs_, residual_, direction_, product_, inverse_diagonal_;
+    // Conjugate gradients with a two-level preconditioner, Jacobi plus a coarse
+    // correction on aggregates (harmonic_blend.cpp): the iterate, the right-hand
+    // side, the residual, the search direction, its product with A, the
+    // preconditioned residual z, the residual summed by aggregates and the
+    // coarse system's solution for it, and r·z.
+    std::vector<double> x_, rhs_, residual_, direction_, product_, inverse_diagonal_, preconditioned_;
+    std::vector<double> coarse_residual_, coarse_correction_;
     double rz_ = 0.0, threshold_ = 0.0;
     long iterations_ = 0, max_iterations_ = 0;
     bool done_ = false;
