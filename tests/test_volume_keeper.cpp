@@ -146,6 +146,50 @@ TEST_CASE("the volume keeper undoes a blend region's drift to second order and m
     }
 }
 
+TEST_CASE("the volume keeper's steps after a repair stop where the drift is settled, wherever the mesh is",
+          "[volume_keeper]") {
+    const TriangleMesh mesh = make_builtin_mesh("sphere", 3);
+    const VertexRings rings = build_vertex_rings(mesh);
+    std::mt19937 random(27);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    // A repair moves a few vertices by up to an edge (large drifts) or many by
+    // little: both, on the sphere moved and scaled at random.
+    for (int trial = 0; trial < 12; ++trial) {
+        const double scale = std::pow(10.0, 3.0 * unit(random));
+        const Vec3 offset = Vec3(unit(random), unit(random), unit(random)) * (100.0 * scale);
+        std::vector<Vec3> placed;
+        for (const Vec3& p : mesh.positions) placed.push_back(p * scale + offset);
+        const std::vector<double> s = s_by_height(mesh.positions, -0.3, 0.4);
+        const RegionParts parts = RegionParts::of(s, rings);
+        const VolumeKeeper keeper(placed, s, rings, parts.blend);
+        REQUIRE(keeper.active());
+        const double size = scale * (trial % 2 == 0 ? 1e-4 : 3e-2);
+        const std::vector<Vec3> before = jiggled(placed, parts.blend, size, random);
+        std::vector<Vec3> after = before;
+        std::vector<Vec3> area_vectors;
+        double area_norm = 0.0;
+        const int steps = keeper.restore_after_repair(after, rings, area_vectors, area_norm);
+        CAPTURE(trial, scale, size, steps);
+        CHECK(steps >= 1);
+        CHECK(steps <= VolumeKeeper::kStepsAfterRepair);
+        // Quadratic convergence: a small move's drift settles in one or two steps, not three.
+        if (size < 1e-3 * scale) CHECK(steps < VolumeKeeper::kStepsAfterRepair);
+        const double left = std::abs(keeper.volume(after) - keeper.rest_volume());
+        CHECK(left <= 10 * VolumeKeeper::kSettledDrift * std::abs(keeper.rest_volume()));
+        for (std::size_t v = 0; v < s.size(); ++v)
+            if (s[v] == 0.0 || s[v] == 1.0) REQUIRE(after[v] == before[v]);  // bit for bit
+        // Settled: a second call takes no step, and leaves the area vectors and the positions.
+        const std::vector<Vec3> settled = after, vectors = area_vectors;
+        const double norm = area_norm;
+        if (left <= VolumeKeeper::kSettledDrift * std::abs(keeper.rest_volume())) {
+            CHECK(keeper.restore_after_repair(after, rings, area_vectors, area_norm) == 0);
+            CHECK(after == settled);
+            CHECK(area_vectors == vectors);
+            CHECK(area_norm == norm);
+        }
+    }
+}
+
 TEST_CASE("the volume keeper does nothing on an open surface", "[volume_keeper]") {
     const TriangleMesh mesh = fixtures::grid(6, 6);
     const VertexRings rings = build_vertex_rings(mesh);

@@ -207,11 +207,7 @@ void CpuSteps::repair_folds(double time, double h, double max_error, bool measur
         if (cycle == 0 && fold_repair_.acted() && std::isfinite(max_error))
             result.land_at = FoldRepair::next_repair_time(time + h);
         if (!fold_repair_.acted() || !rest_->volume.active()) break;
-        for (int k = 0; k < VolumeKeeper::kStepsAfterRepair; ++k) {
-            ring_area_vectors(positions_, rest_->rings, rest_->parts.blend, area_vectors_);
-            area_norm_ = rest_->volume.area_norm(area_vectors_);
-            rest_->volume.restore(positions_, area_vectors_, area_norm_);
-        }
+        rest_->volume.restore_after_repair(positions_, rest_->rings, area_vectors_, area_norm_);
     }
 }
 
