@@ -160,9 +160,9 @@ double VolumeKeeper::restore(std::vector<Vec3>& positions, const std::vector<Vec
 
 void VolumeKeeper::move_by(std::vector<Vec3>& positions, const std::vector<Vec3>& area_vectors, double area_norm,
                            double drift) const {
-    const double step = -drift / area_norm;
+    const double step = -drift / area_norm / 6.0;  // ∂V/∂x is a sixth of the area vector
     parallel_for(blend_.size(), [&](std::size_t first, std::size_t last) {
-        for (std::size_t i = first; i < last; ++i) positions[blend_[i]] += (step * weight_[i] / 6.0) * area_vectors[i];
+        for (std::size_t i = first; i < last; ++i) positions[blend_[i]] += (step * weight_[i]) * area_vectors[i];
     });
 }
 
