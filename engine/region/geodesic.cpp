@@ -112,9 +112,9 @@ void run_dijkstra(const LinkGraph& g, double max_distance, std::vector<double>& 
 // Distance at c from the known corners a, b of a triangle: unfold a virtual point
 // source s with |s-a| = da, |s-b| = db on the far side of edge ab; valid when the ray
 // s -> c crosses the edge and the result is causal (larger than da and db).
-// len is |b - a|, the ring's edge length.
-double triangle_update(const Vec3& c, const Vec3& a, double da, const Vec3& b, double db, double len) {
+double triangle_update(const Vec3& c, const Vec3& a, double da, const Vec3& b, double db) {
     const Vec3 e = b - a;
+    const double len = glm::length(e);
     if (len <= 0.0) return kInf;
     const Vec3 u = e / len;
     const double cx = glm::dot(c - a, u), cy = glm::length((c - a) - cx * u);
@@ -209,25 +209,16 @@ private:
     std::vector<std::uint32_t> slot_;  // per vertex: its place in heap_, or kAbsent
 };
 
-// The length of every ring entry's edge, |p[neighbours[i]] - p[v]| at entry i of
-// v's ring, taken once: the march and the smoothing read each several times.
-std::vector<double> ring_edge_lengths(const std::vector<Vec3>& p, const VertexRings& rings) {
-    std::vector<double> length(rings.neighbours.size());
-    for (std::uint32_t v = 0; v < rings.vertex_count(); ++v)
-        for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i)
-            length[i] = glm::length(p[rings.neighbours[i]] - p[v]);
-    return length;
-}
-
-double mean_edge_length(const std::vector<double>& edge_length) {
+double mean_edge_length(const std::vector<Vec3>& p, const VertexRings& rings) {
     double sum = 0.0;
-    for (const double len : edge_length) sum += len;
-    return edge_length.empty() ? 0.0 : sum / double(edge_length.size());
+    for (std::uint32_t v = 0; v < rings.vertex_count(); ++v)
+        for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) sum += glm::length(p[rings.neighbours[i]] - p[v]);
+    return rings.neighbours.empty() ? 0.0 : sum / double(rings.neighbours.size());
 }
 
-void run_fast_marching(const std::vector<Vec3>& p, const VertexRings& rings, const std::vector<double>& edge_length,
-                       double max_distance, std::vector<double>& dist) {
-    const double quantum = 1e-9 * mean_edge_length(edge_length);
+void run_fast_marching(const std::vector<Vec3>& p, const VertexRings& rings, double max_distance,
+                       std::vector<double>& dist) {
+    const double quantum = 1e-9 * mean_edge_length(p, rings);
     const auto key = [&](double d, std::uint32_t v) {
         return MarchKey{quantum > 0.0 ? std::floor(d / quantum) : d, v};
     };
@@ -258,14 +249,12 @@ void run_fast_marching(const std::vector<Vec3>& p, const VertexRings& rings, con
         accepted[v] = 1;
         for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i) {
             const std::uint32_t a = rings.neighbours[i];
-            if (!accepted[a]) relax(a, dist[v] + edge_length[i]);  // edge update
+            if (!accepted[a]) relax(a, dist[v] + glm::length(p[a] - p[v]));  // edge update
             if (!rings.wedge[i]) continue;
             // Triangle (v, a, b): update the one corner not yet accepted from the other two.
-            const std::uint32_t j = rings.next(v, i), b = rings.neighbours[j];
-            if (!accepted[a] && accepted[b])
-                relax(a, triangle_update(p[a], p[v], dist[v], p[b], dist[b], edge_length[j]));
-            if (!accepted[b] && accepted[a])
-                relax(b, triangle_update(p[b], p[v], dist[v], p[a], dist[a], edge_length[i]));
+            const std::uint32_t b = rings.neighbours[rings.next(v, i)];
+            if (!accepted[a] && accepted[b]) relax(a, triangle_update(p[a], p[v], dist[v], p[b], dist[b]));
+            if (!accepted[b] && accepted[a]) relax(b, triangle_update(p[b], p[v], dist[v], p[a], dist[a]));
         }
     }
 }
@@ -295,8 +284,8 @@ bool is_straight_boundary(const std::vector<Vec3>& p, const VertexRings& rings, 
 // over the 1-ring, skipping seeded vertices and unreached (+infinity) values. A vertex
 // on the mesh boundary averages over its two boundary edges only (a one-sided 1-ring
 // would shift its value by up to half an edge length); boundary corners keep theirs.
-void smooth_distances(const std::vector<Vec3>& p, const VertexRings& rings, const std::vector<double>& edge_length,
-                      const std::vector<double>& seeds, int iterations, std::vector<double>& dist) {
+void smooth_distances(const std::vector<Vec3>& p, const VertexRings& rings, const std::vector<double>& seeds,
+                      int iterations, std::vector<double>& dist) {
     if (iterations == 0) return;
     // The vertices the kernel moves (reached, not seeded, not a boundary corner)
     // and, per ring entry of each, the length of its edge where the kernel weighs
@@ -304,16 +293,14 @@ void smooth_distances(const std::vector<Vec3>& p, const VertexRings& rings, cons
     // stopped at max_distance reaches part of the mesh, and only that part is visited.
     std::vector<std::uint32_t> smoothed, offsets{0};
     std::vector<double> length, inverse;
-    smoothed.reserve(dist.size());
-    offsets.reserve(dist.size() + 1);
-    length.reserve(edge_length.size());
     for (std::uint32_t v = 0; v < dist.size(); ++v) {
         if (seeds[v] < kInf || dist[v] == kInf) continue;
         const bool boundary = !rings.is_closed(v);
         if (boundary && !is_straight_boundary(p, rings, v)) continue;
         smoothed.push_back(v);
         for (std::uint32_t i = rings.begin(v); i < rings.end(v); ++i)
-            length.push_back(!boundary || is_boundary_entry(rings, v, i) ? edge_length[i] : 0.0);
+            length.push_back(!boundary || is_boundary_entry(rings, v, i) ? glm::length(p[rings.neighbours[i]] - p[v])
+                                                                         : 0.0);
         offsets.push_back(static_cast<std::uint32_t>(length.size()));
     }
     inverse.reserve(length.size());
@@ -348,9 +335,8 @@ std::vector<double> geodesic_distance_from_seeds(const std::vector<Vec3>& positi
     if (options.smoothing_iterations < 0)
         throw InputError("geodesic distance: smoothing_iterations must be >= 0");
     std::vector<double> dist = seeds;
-    const std::vector<double> edge_length = ring_edge_lengths(positions, rings);
     if (options.method == GeodesicMethod::fast_marching) {
-        run_fast_marching(positions, rings, edge_length, options.max_distance, dist);
+        run_fast_marching(positions, rings, options.max_distance, dist);
     } else {
         const bool flips = options.method == GeodesicMethod::dijkstra_flip_links;
         run_dijkstra(build_link_graph(positions, rings, flips), options.max_distance, dist);
@@ -358,7 +344,7 @@ std::vector<double> geodesic_distance_from_seeds(const std::vector<Vec3>& positi
     // Values pushed but never settled beyond max_distance are left out.
     for (double& d : dist)
         if (d > options.max_distance) d = kInf;
-    smooth_distances(positions, rings, edge_length, seeds, options.smoothing_iterations, dist);
+    smooth_distances(positions, rings, seeds, options.smoothing_iterations, dist);
     return dist;
 }
 
