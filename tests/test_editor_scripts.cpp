@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cstdio>
 #include <string>
 
 #include "view/camera.h"
@@ -32,7 +33,8 @@ public:
         camera_ = Camera();
         frame_session(camera_, session_, viewport_);
     }
-    void log(const std::string&) override {}
+    void log(const std::string& line) override { lines.push_back(line); }
+    std::vector<std::string> lines;
 
 private:
     const EditorSession& session_;
@@ -51,6 +53,16 @@ void run_script(const std::string& text, EditorSession& session) {
     while (runner.run_frame({session, tools, camera, settings, viewport, host})) session.update(7);
     INFO(runner.error());
     REQUIRE(!runner.failed());
+}
+
+// The frames, total and longest frame a waiting action logged ("NAME waited N
+// frames, T ms (longest frame L ms)"), from the last such line; false if none.
+bool waited(const std::vector<std::string>& lines, const std::string& name, int& frames, double& total_ms,
+            double& longest_ms) {
+    const std::string prefix = "script: " + name + " waited %d frames, %lf ms (longest frame %lf ms)";
+    for (auto line = lines.rbegin(); line != lines.rend(); ++line)
+        if (std::sscanf(line->c_str(), prefix.c_str(), &frames, &total_ms, &longest_ms) == 3) return true;
+    return false;
 }
 
 using test::deform_scene_file;
@@ -179,4 +191,42 @@ TEST_CASE("Scripted sessions: a loaded scene plays to its target_time; undo of a
     // The redone apply baked the pose at t = 0.7, as the saved scene deforms it.
     CHECK(scripted.target_time() == 0.0);
     CHECK(scripted.base_positions() == deform_scene_file(path_in(dir, "bar-0.7.json")));
+}
+
+TEST_CASE("Scripted sessions: a wait logs the frames it waited, its time and its longest frame", "[editor][script]") {
+    EditorSession session;
+    ToolController tools;
+    Camera camera;
+    EditorSettings settings;
+    const Viewport viewport{1280, 800};
+    HeadlessHost host(session, camera, viewport);
+    ScriptRunner runner(parse_script("{\"action\": \"load\", \"path\": \"" VFSD_SOURCE_DIR
+                                     "/assets/scenes/fig04-box-bend.json\"}\n"
+                                     "{\"action\": \"set-time\", \"t\": 0}\n"
+                                     "{\"action\": \"wait-until-time\", \"t\": 0}\n"
+                                     "{\"action\": \"set-time\", \"t\": 1}\n"
+                                     "{\"action\": \"wait-until-time\", \"t\": 1}\n",
+                                     "session"));
+    // Each frame takes at most 7 steps: the run to t = 1 waits several frames.
+    int frames = 0;
+    while (runner.run_frame({session, tools, camera, settings, viewport, host})) {
+        session.update(7);
+        ++frames;
+    }
+    INFO(runner.error());
+    REQUIRE(!runner.failed());
+    REQUIRE(session.time() == 1.0);
+    int waited_frames = 0;
+    double total_ms = -1.0, longest_ms = -1.0;
+    REQUIRE(waited(host.lines, "wait-until-time", waited_frames, total_ms, longest_ms));
+    // The wait began in the frame that set the target and ended in the last one.
+    CHECK(waited_frames == frames);
+    CHECK(waited_frames * 7 >= 250);
+    CHECK(longest_ms >= 0.0);
+    CHECK(longest_ms <= total_ms);
+    CHECK(total_ms <= waited_frames * longest_ms + 1e-9);
+    // An action that did not wait logs no such line.
+    int none = 0;
+    double ignored = 0.0;
+    CHECK(!waited(host.lines, "set-time", none, ignored, ignored));
 }

@@ -1,5 +1,7 @@
 #include "editor/script.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -14,6 +16,13 @@ using nlohmann::json;
 constexpr int kMaxWaitFrames = 200000;
 
 }  // namespace
+
+std::string ScriptRunner::waited_line(const std::string& name, double total_ms) const {
+    char line[160];
+    std::snprintf(line, sizeof line, "script: %s waited %d frames, %.1f ms (longest frame %.1f ms)", name.c_str(),
+                  waited_frames_, total_ms, longest_frame_ms_);
+    return line;
+}
 
 std::vector<ScriptAction> parse_script(const std::string& source_text, const std::string& source) {
     std::vector<ScriptAction> actions;
@@ -57,9 +66,18 @@ std::vector<ScriptAction> load_script(const std::string& path) {
 }
 
 bool ScriptRunner::run_frame(CommandContext context) {
+    using Clock = std::chrono::steady_clock;
+    const auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
+    const Clock::time_point now = Clock::now();
+    if (waited_frames_ > 0) longest_frame_ms_ = std::max(longest_frame_ms_, ms(now - last_call_));
+    last_call_ = now;
     while (!done()) {
         const ScriptAction& a = actions_[next_];
-        if (waited_frames_ == 0) context.host.log("script: " + a.args.dump());
+        if (waited_frames_ == 0) {
+            context.host.log("script: " + a.args.dump());
+            began_ = now;
+            longest_frame_ms_ = 0.0;
+        }
         context.frame = waited_frames_;
         bool finished = false;
         try {
@@ -73,6 +91,7 @@ bool ScriptRunner::run_frame(CommandContext context) {
             if (++waited_frames_ > kMaxWaitFrames) error_ = a.where + ": " + a.name + ": gave up waiting";
             return !done();
         }
+        if (waited_frames_ > 0) context.host.log(waited_line(a.name, ms(now - began_)));
         waited_frames_ = 0;
         ++next_;
         // A screenshot needs this frame rendered first.
