@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
 
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
@@ -59,13 +60,30 @@ GLFWwindow* open_window(const AppOptions& options) {
     return window;
 }
 
+// An event for the window's frames to draw (redraw.h).
+void wake(GLFWwindow* window) { static_cast<App*>(glfwGetWindowUserPointer(window))->on_event(); }
+
 }  // namespace
 
 App::App(const AppOptions& options) : options_(options), window_(open_window(options)) {
     glfwSetWindowUserPointer(window_, this);
     glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
-        if (count > 0) static_cast<App*>(glfwGetWindowUserPointer(w))->on_drop(std::vector<std::string>(paths, paths + count));
+        App* app = static_cast<App*>(glfwGetWindowUserPointer(w));
+        app->on_event();
+        if (count > 0) app->on_drop(std::vector<std::string>(paths, paths + count));
     });
+    // Any event wakes the window's frames (redraw.h). Set before ImGui's backend,
+    // which calls the callbacks it finds (ImGui 1.86 polls the cursor, so its
+    // callback is the window's alone).
+    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double, double) { wake(w); });
+    glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int, int, int) { wake(w); });
+    glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double) { wake(w); });
+    glfwSetKeyCallback(window_, [](GLFWwindow* w, int, int, int, int) { wake(w); });
+    glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned int) { wake(w); });
+    glfwSetCursorEnterCallback(window_, [](GLFWwindow* w, int) { wake(w); });
+    glfwSetWindowFocusCallback(window_, [](GLFWwindow* w, int) { wake(w); });
+    glfwSetWindowRefreshCallback(window_, [](GLFWwindow* w) { wake(w); });
+    glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int, int) { wake(w); });
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;
@@ -264,9 +282,15 @@ int App::run() {
     const auto elapsed_ms = [](Clock::time_point from, Clock::time_point to) {
         return std::chrono::duration<double, std::milli>(to - from).count();
     };
+    const Clock::time_point opened = Clock::now();
     while (!glfwWindowShouldClose(window_) && !(script_over() && !pending_screenshot_)) {
+        // At rest with nothing to draw, the window sleeps until an event (redraw.h).
+        const double wait = redraw_.wait_seconds(elapsed_ms(opened, Clock::now()));
+        if (wait > 0.0)
+            glfwWaitEventsTimeout(wait);
+        else
+            glfwPollEvents();
         const Clock::time_point start = Clock::now();
-        glfwPollEvents();
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         if (scripted_pointer_) {
@@ -282,6 +306,21 @@ int App::run() {
         draw_overlay();
         ImGui::Render();
         const Clock::time_point drawing = Clock::now();
+        const editor::EditorSession& session = editor_->session();
+        const editor::ScriptRunner* script = editor_->script();
+        WindowRedraw::Frame frame;
+        frame.now_ms = elapsed_ms(opened, drawing);
+        frame.working = session.moving() || session.region_pending();
+        frame.draw_due = editor_->draw_due();
+        frame.input = std::exchange(input_, false);
+        frame.scripted = script && !script->done();
+        frame.screenshot = pending_screenshot_.has_value();
+        if (!redraw_.draw(frame)) {
+            if (frame_log_.active())
+                for (const std::string& line : frame_log_.add({elapsed_ms(start, drawing), 0.0, 0.0})) log(line);
+            continue;
+        }
+        ++frames_drawn_;
         glEnable(GL_MULTISAMPLE);
         view_.wireframe = editor_->settings().wireframe;
         view_.draw(editor_->session(), editor_->camera(), viewport());

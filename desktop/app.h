@@ -15,6 +15,7 @@
 #include "editor/editor.h"
 #include "editor/frame_log.h"
 #include "editor/session_view.h"
+#include "desktop/redraw.h"
 
 struct GLFWwindow;
 struct ImDrawList;
@@ -45,9 +46,12 @@ public:
     void simulate_crash() override;
     void point_at(double x, double y) override;
     void log_frame_times(int frames) override;
+    bool keeps_image() const override { return true; }  // a frame that does not swap leaves it on the display
+    long frames_drawn() const override { return frames_drawn_; }
 
     // Called by GLFW's callbacks.
     void on_drop(const std::vector<std::string>& paths);
+    void on_event() { input_ = true; }
 
 private:
     void open(const std::string& path);
@@ -88,6 +92,11 @@ private:
     // frames' times to log.
     std::optional<std::pair<double, double>> scripted_pointer_;
     editor::FrameLog frame_log_;
+
+    // Which frames draw (redraw.h); an event since the last frame; frames drawn.
+    WindowRedraw redraw_;
+    bool input_ = true;
+    long frames_drawn_ = 0;
 };
 
 }  // namespace vfsd::desktop

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "view/camera.h"
@@ -34,7 +35,9 @@ public:
         frame_session(camera_, session_, viewport_);
     }
     void log(const std::string& line) override { lines.push_back(line); }
+    long frames_drawn() const override { return drawn; }
     std::vector<std::string> lines;
+    long drawn = -1;  // the frames "drawn", where the test counts them
 
 private:
     const EditorSession& session_;
@@ -193,7 +196,7 @@ TEST_CASE("Scripted sessions: a loaded scene plays to its target_time; undo of a
     CHECK(scripted.base_positions() == deform_scene_file(path_in(dir, "bar-0.7.json")));
 }
 
-TEST_CASE("Scripted sessions: a wait logs the frames it waited, its time and its longest frame", "[editor][script]") {
+TEST_CASE("Scripted sessions: a wait logs the frames it waited, its time, its longest frame and the frames drawn", "[editor][script]") {
     EditorSession session;
     ToolController tools;
     Camera camera;
@@ -208,9 +211,12 @@ TEST_CASE("Scripted sessions: a wait logs the frames it waited, its time and its
                                      "{\"action\": \"wait-until-time\", \"t\": 1}\n",
                                      "session"));
     // Each frame takes at most 7 steps: the run to t = 1 waits several frames.
+    // The host "draws" every other frame.
     int frames = 0;
+    host.drawn = 0;
     while (runner.run_frame({session, tools, camera, settings, viewport, host})) {
         session.update(7);
+        if (frames % 2 == 0) ++host.drawn;
         ++frames;
     }
     INFO(runner.error());
@@ -227,6 +233,15 @@ TEST_CASE("Scripted sessions: a wait logs the frames it waited, its time and its
     CHECK(longest_ms >= 0.0);
     CHECK(longest_ms <= total_ms);
     CHECK(total_ms <= waited_frames * (longest_ms + 0.05) + 0.05);
+    // The frames drawn while it waited, as the host counts them.
+    int drawn = -1;
+    for (const std::string& line : host.lines)
+        if (line.rfind("script: wait-until-time waited", 0) == 0) {
+            const std::size_t at = line.find(", drew ");
+            REQUIRE(at != std::string::npos);
+            drawn = std::atoi(line.c_str() + at + 7);
+        }
+    CHECK(drawn == (waited_frames + 1) / 2);
     // An action that did not wait logs no such line.
     int none = 0;
     double ignored = 0.0;

@@ -19,6 +19,7 @@
 #include <stb_image.h>
 
 #include "base/rigid_fit.h"
+#include "desktop/redraw.h"
 #include "deform/quality.h"
 #include "io/mesh_file.h"
 #include "mesh/geometry.h"
@@ -248,7 +249,23 @@ std::string armadillo_script(const std::string& mesh, const std::string& p) {
            "{\"action\": \"screenshot\", \"path\": \"" + p + "-lifted.png\", \"ui\": false}\n"
            "{\"action\": \"screenshot\", \"path\": \"" + p + "-lifted-ui.png\", \"ui\": true}\n"
            "{\"action\": \"export\", \"path\": \"" + p + ".ply\"}\n"
-           "{\"action\": \"save-scene\", \"path\": \"" + p + ".json\"}\n";
+           "{\"action\": \"save-scene\", \"path\": \"" + p + ".json\"}\n"
+           // A second drag: its run holds the lifted hand on show until its final shape.
+           "{\"action\": \"drag\", \"index\": 3, \"to\": [480, 100]}\n"
+           "{\"action\": \"wait-until-time\", \"t\": 1}\n";
+}
+
+// The last "script: wait-until-time waited N frames, T ms (longest frame L ms),
+// drew D" line of a log.
+bool last_wait(const std::string& log, int& frames, double& total_ms, int& drawn) {
+    std::ifstream in(log);
+    bool found = false;
+    double longest_ms = 0.0;
+    for (std::string line; std::getline(in, line);)
+        if (std::sscanf(line.c_str(), "script: wait-until-time waited %d frames, %lf ms (longest frame %lf ms), drew %d",
+                        &frames, &total_ms, &longest_ms, &drawn) == 4)
+            found = true;
+    return found;
 }
 
 }  // namespace
@@ -298,11 +315,95 @@ TEST_CASE("vfsd-desktop: a first edit on the armadillo lifts its hand rigidly, t
     CHECK(body_moved <= 1e-7 * diagonal);  // to the exported file's float precision
     CHECK(folds == 0);  // no triangle turned against its neighbours (docs/method.md, "Keeping the promise")
 
+    // The second drag's run kept the lifted hand on show: the window drew its final
+    // shape and, while it ran, only the panels' progress (desktop/redraw.h), not
+    // each of its frames. (A script sends no input events.)
+    int frames = 0, drawn = 0;
+    double total_ms = 0.0;
+    REQUIRE(last_wait(s.file("armadillo.log"), frames, total_ms, drawn));
+    INFO("the second drag: " << frames << " frames, " << total_ms << " ms, " << drawn << " drawn");
+    CHECK(drawn >= 1);
+    CHECK(drawn <= 2 + total_ms / desktop::WindowRedraw::kProgressMs);
+
     // The figures of README's "First edit": VFSD_FIGURES_DIR=docs/figures.
     if (const char* figures = std::getenv("VFSD_FIGURES_DIR")) {
         for (const std::string name : {"open", "painted", "lifted"})
             std::filesystem::copy_file(p + "-" + name + ".png",
                                        std::string(figures) + "/armadillo-first-edit-" + name + ".png",
                                        std::filesystem::copy_options::overwrite_existing);
+    }
+}
+
+// ---- which frames the window draws (desktop/redraw.h), without a window -------------
+
+namespace {
+
+// Frames every `frame_ms` from `from_ms` for `for_ms`; returns the frames drawn.
+int frames_drawn(desktop::WindowRedraw& redraw, desktop::WindowRedraw::Frame f, double from_ms, double for_ms,
+                 double frame_ms) {
+    int drawn = 0;
+    for (double t = from_ms; t < from_ms + for_ms; t += frame_ms) {
+        f.now_ms = t;
+        drawn += redraw.draw(f);
+    }
+    return drawn;
+}
+
+}  // namespace
+
+TEST_CASE("the window draws a held run's final shape and its progress, input, and sleeps at rest", "[desktop][redraw]") {
+    using desktop::WindowRedraw;
+    for (const double frame_ms : {1.0, 15.0, 40.0}) {
+        INFO("frames every " << frame_ms << " ms");
+        WindowRedraw redraw;
+        WindowRedraw::Frame rest;
+        redraw.draw(rest);  // the first frames draw (as after input)
+        redraw.draw(rest);
+        // At rest with no event: no draw until the rest redraw, and the window may sleep until then.
+        CHECK(redraw.wait_seconds(frame_ms) > 0.0);
+        CHECK(redraw.wait_seconds(frame_ms) <= WindowRedraw::kRestRedrawMs / 1000.0);
+        CHECK(frames_drawn(redraw, rest, frame_ms, 0.9 * WindowRedraw::kRestRedrawMs, frame_ms) == 0);
+
+        // A run that holds its last result (the pacer asks for no draw) for 2 s:
+        // only the progress redraws; the frame it ends draws its final shape.
+        WindowRedraw::Frame held;
+        held.working = true, held.draw_due = false;
+        const double start = 2000.0, run_ms = 2000.0;
+        const int during = frames_drawn(redraw, held, start, run_ms, frame_ms);
+        CHECK(during <= 1 + run_ms / WindowRedraw::kProgressMs);
+        CHECK(during >= run_ms / WindowRedraw::kProgressMs - 1);
+        CHECK(redraw.wait_seconds(start + run_ms) == 0.0);  // working: no sleep
+        rest.now_ms = start + run_ms;
+        CHECK(redraw.draw(rest));  // the final shape
+        rest.now_ms += frame_ms;
+        CHECK_FALSE(redraw.draw(rest));
+        CHECK(redraw.wait_seconds(rest.now_ms) > 0.0);
+
+        // Input draws its frame and the next, in a run or at rest; then no more.
+        for (const bool working : {true, false}) {
+            WindowRedraw::Frame f = working ? held : rest;
+            f.now_ms = rest.now_ms + frame_ms;
+            f.input = true;
+            CHECK(redraw.draw(f));
+            CHECK(redraw.wait_seconds(f.now_ms) == 0.0);  // the next frame comes at once
+            f.input = false, f.now_ms += frame_ms;
+            CHECK(redraw.draw(f));
+            f.now_ms += frame_ms;
+            CHECK_FALSE(redraw.draw(f));
+            rest.now_ms = f.now_ms;
+        }
+
+        // A run that shows each step (the pacer's draws), a script at rest and a
+        // pending screenshot draw every frame; a script never sleeps.
+        WindowRedraw::Frame shown = held;
+        shown.draw_due = true;
+        CHECK(frames_drawn(redraw, shown, rest.now_ms + frame_ms, 10 * frame_ms, frame_ms) == 10);
+        WindowRedraw::Frame scripted = rest;
+        scripted.scripted = true;
+        CHECK(frames_drawn(redraw, scripted, rest.now_ms + 20 * frame_ms, 10 * frame_ms, frame_ms) == 10);
+        CHECK(redraw.wait_seconds(rest.now_ms + 30 * frame_ms) == 0.0);
+        WindowRedraw::Frame screenshot = held;
+        screenshot.screenshot = true;
+        CHECK(frames_drawn(redraw, screenshot, rest.now_ms + 40 * frame_ms, 10 * frame_ms, frame_ms) == 10);
     }
 }

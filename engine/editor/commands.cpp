@@ -589,6 +589,7 @@ void EditorHost::answer_restore(bool) { throw InputError("this editor keeps no a
 void EditorHost::simulate_crash() { throw InputError("this editor cannot simulate a crash"); }
 void EditorHost::point_at(double, double) {}
 void EditorHost::log_frame_times(int) {}
+long EditorHost::frames_drawn() const { return -1; }
 
 const std::vector<Command>& command_table() { return kCommands; }
 

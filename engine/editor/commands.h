@@ -37,6 +37,8 @@ public:
     // without a pointer or a frame clock ignore them.
     virtual void point_at(double x, double y);
     virtual void log_frame_times(int frames);
+    // The frames the editor has drawn so far; -1 where it does not count them.
+    virtual long frames_drawn() const;
 };
 
 // Editor state the commands change beside the session, tools and camera.

@@ -41,8 +41,11 @@ public:
     virtual void simulate_crash() { throw InputError("this editor cannot simulate a crash"); }
     virtual void point_at(double, double) {}
     virtual void log_frame_times(int) {}
-    // The view keeps its last image through a frame that does not draw (the page's canvas).
+    // The view keeps its last image through a frame that does not draw (the page's
+    // canvas; the window, which then does not swap its buffers).
     virtual bool keeps_image() const { return false; }
+    // As EditorHost's: the frames drawn so far (-1: not counted).
+    virtual long frames_drawn() const { return -1; }
     // The renderer has not finished the last draw yet (the page's GL fence; it then
     // reports the draw's time through Editor::renderer_finished).
     virtual bool renderer_busy() const { return false; }
@@ -173,6 +176,7 @@ public:
     void simulate_crash() override { shell_.simulate_crash(); }
     void point_at(double x, double y) override { shell_.point_at(x, y); }
     void log_frame_times(int frames) override { shell_.log_frame_times(frames); }
+    long frames_drawn() const override { return shell_.frames_drawn(); }
 
 private:
     CommandContext context();

@@ -1,9 +1,9 @@
 #pragma once
 // How a frame splits between integrating and drawing while the deformation runs.
 // A draw that fits in a 60 Hz frame is made every frame, after step_budget_ms of
-// steps. On a software renderer (the page in SwiftShader) a draw of a large mesh
-// costs more than several steps; where the shell keeps its last image (the page's
-// canvas), the pacer then draws only once the steps since the last draw took
+// steps. On a software renderer (the page in SwiftShader, the window in llvmpipe)
+// a draw of a large mesh costs more than several steps; where the shell keeps its
+// last image (the page's canvas, the window's displayed buffer), the pacer then draws only once the steps since the last draw took
 // about three draws' time, and fills each frame up to that length with steps, so
 // drawing takes about a quarter of the run and no frame is much longer than
 // max_frame_ms. A draw's cost is what the frame after it waited, or, where the

@@ -17,10 +17,12 @@ constexpr int kMaxWaitFrames = 200000;
 
 }  // namespace
 
-std::string ScriptRunner::waited_line(const std::string& name, double total_ms) const {
-    char line[160];
-    std::snprintf(line, sizeof line, "script: %s waited %d frames, %.1f ms (longest frame %.1f ms)", name.c_str(),
-                  waited_frames_, total_ms, longest_frame_ms_);
+std::string ScriptRunner::waited_line(const std::string& name, double total_ms, long drawn) const {
+    char line[200];
+    const int length = std::snprintf(line, sizeof line, "script: %s waited %d frames, %.1f ms (longest frame %.1f ms)",
+                                     name.c_str(), waited_frames_, total_ms, longest_frame_ms_);
+    if (drawn >= 0 && drawn_before_ >= 0 && length > 0 && std::size_t(length) < sizeof line)
+        std::snprintf(line + length, sizeof line - length, ", drew %ld", drawn - drawn_before_);
     return line;
 }
 
@@ -77,6 +79,7 @@ bool ScriptRunner::run_frame(CommandContext context) {
             context.host.log("script: " + a.args.dump());
             began_ = now;
             longest_frame_ms_ = 0.0;
+            drawn_before_ = context.host.frames_drawn();
         }
         context.frame = waited_frames_;
         bool finished = false;
@@ -91,7 +94,7 @@ bool ScriptRunner::run_frame(CommandContext context) {
             if (++waited_frames_ > kMaxWaitFrames) error_ = a.where + ": " + a.name + ": gave up waiting";
             return !done();
         }
-        if (waited_frames_ > 0) context.host.log(waited_line(a.name, ms(now - began_)));
+        if (waited_frames_ > 0) context.host.log(waited_line(a.name, ms(now - began_), context.host.frames_drawn()));
         waited_frames_ = 0;
         ++next_;
         // A screenshot needs this frame rendered first.

@@ -41,21 +41,23 @@ public:
     // The context's `frame` is the runner's own. An action that waited logs, as it
     // ends, the frames it waited, the time from its first call to its last and
     // the longest time between two of its calls (a frame of the editor's, drawing
-    // and input included): `wait-until-time` after an edit so times edit to
-    // final shape as the user sees it.
+    // and input included), and, where the host counts them, the frames drawn
+    // meanwhile: `wait-until-time` after an edit so times edit to final shape as
+    // the user sees it.
     bool run_frame(CommandContext context);
     bool done() const { return next_ >= actions_.size() || failed(); }
     bool failed() const { return !error_.empty(); }
     const std::string& error() const { return error_; }
 
 private:
-    std::string waited_line(const std::string& name, double total_ms) const;
+    std::string waited_line(const std::string& name, double total_ms, long drawn) const;
 
     std::vector<ScriptAction> actions_;
     std::size_t next_ = 0;
     int waited_frames_ = 0;
     std::chrono::steady_clock::time_point began_, last_call_;  // of the action under way
     double longest_frame_ms_ = 0.0;
+    long drawn_before_ = -1;  // the host's frames drawn when the action began
     std::string error_;
 };
 
