@@ -167,6 +167,7 @@ public:
     void autosaved() override { vfsd_page_autosaved(); }
     bool keeps_image() const override { return true; }  // the canvas: preserveDrawingBuffer
     bool renderer_busy() const override { return fence_ != nullptr; }
+    long frames_drawn() const override { return frames_drawn_; }
 
     void context_lost();
     void context_restored();
@@ -193,6 +194,7 @@ private:
     void poll_fence();
 
     bool dirty_ = true;    // draw the next frame
+    long frames_drawn_ = 0;
     GLsync fence_ = nullptr;  // set after each draw, until the GPU finished it
     double fenced_at_ = 0.0;
     bool fence_timed_ = false;                  // the draw came while the deformation ran: its time goes to the pacer
@@ -376,6 +378,7 @@ void App::frame() {
         if (draw) {
             view_.wireframe = editor_->settings().wireframe;
             view_.draw(editor_->session(), editor_->camera(), viewport());
+            ++frames_drawn_;
             fence_draw(editor_->busy());
         }
     } catch (const std::exception& e) {
