@@ -75,7 +75,9 @@ App::App(const AppOptions& options) : options_(options), window_(open_window(opt
     // Any event wakes the window's frames (redraw.h). Set before ImGui's backend,
     // which calls the callbacks it finds (ImGui 1.86 polls the cursor, so its
     // callback is the window's alone).
-    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double, double) { wake(w); });
+    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double, double) {
+        static_cast<App*>(glfwGetWindowUserPointer(w))->on_cursor_moved();
+    });
     glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int, int, int) { wake(w); });
     glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double) { wake(w); });
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int, int, int, int) { wake(w); });
@@ -214,6 +216,15 @@ void App::handle_input() {
     else if (p != editor_->pointer().value_or(p + 1.0)) editor_->move(p.x, p.y);
 }
 
+// A cursor move changes what is shown over the panels (their hover), with a button
+// held (a drag), with a brush (its outline follows), or where the hovered curve
+// point or gizmo part differs from the last drawn frame's.
+bool App::cursor_shows(const Hover& now) const {
+    const bool held = ImGui::IsMouseDown(ImGuiMouseButton_Left) || ImGui::IsMouseDown(ImGuiMouseButton_Right) ||
+                      ImGui::IsMouseDown(ImGuiMouseButton_Middle);
+    return now.panels || now.brush || held || !(now == drawn_hover_);
+}
+
 // ---- the overlay: what the editor hands over, in ImGui's background list ----------------
 
 namespace {
@@ -254,6 +265,9 @@ void App::draw_overlay() {
     const auto at = [&](glm::dvec2 p) { return ImVec2(float(p.x) * scale, float(p.y) * scale); };
     const bool free = !ImGui::GetIO().WantCaptureMouse;
     const editor::Overlay o = editor_->overlay(free ? std::optional<glm::dvec2>(pointer()) : std::nullopt);
+    hover_ = Hover{!free, o.brush.has_value(), -1, int(o.gizmo_hot)};
+    for (std::size_t i = 0; i < o.points.size(); ++i)
+        if (o.points[i].hot) hover_.point = int(i);
     for (const auto& [a, b] : o.polygon) draw->AddLine(at(a), at(b), IM_COL32(90, 90, 110, 200), 1.5f);
     for (const editor::OverlayPoint& p : o.points) {
         const ImU32 fill = p.hot ? IM_COL32(255, 200, 40, 255) : p.knot ? IM_COL32(30, 30, 30, 255) : IM_COL32(250, 250, 250, 255);
@@ -312,7 +326,7 @@ int App::run() {
         frame.now_ms = elapsed_ms(opened, drawing);
         frame.working = session.moving() || session.region_pending();
         frame.draw_due = editor_->draw_due();
-        frame.input = std::exchange(input_, false);
+        frame.input = std::exchange(input_, false) || (std::exchange(moved_, false) && cursor_shows(hover_));
         frame.scripted = script && !script->done();
         frame.screenshot = pending_screenshot_.has_value();
         if (!redraw_.draw(frame)) {
@@ -321,6 +335,7 @@ int App::run() {
             continue;
         }
         ++frames_drawn_;
+        drawn_hover_ = hover_;
         glEnable(GL_MULTISAMPLE);
         view_.wireframe = editor_->settings().wireframe;
         view_.draw(editor_->session(), editor_->camera(), viewport());

@@ -52,6 +52,7 @@ public:
     // Called by GLFW's callbacks.
     void on_drop(const std::vector<std::string>& paths);
     void on_event() { input_ = true; }
+    void on_cursor_moved() { moved_ = true; }
 
 private:
     void open(const std::string& path);
@@ -94,8 +95,19 @@ private:
     editor::FrameLog frame_log_;
 
     // Which frames draw (redraw.h); an event since the last frame; frames drawn.
+    // A cursor move alone draws where it changes what is shown: over the panels, with
+    // a button held, with a brush, or where the hovered point or gizmo part changed.
+    struct Hover {
+        bool panels = false, brush = false;
+        int point = -1, gizmo = 0;
+        bool operator==(const Hover& o) const {
+            return panels == o.panels && brush == o.brush && point == o.point && gizmo == o.gizmo;
+        }
+    };
+    bool cursor_shows(const Hover& now) const;
     WindowRedraw redraw_;
-    bool input_ = true;
+    bool input_ = true, moved_ = false;
+    Hover hover_, drawn_hover_;
     long frames_drawn_ = 0;
 };
 
