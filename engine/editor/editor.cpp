@@ -214,9 +214,9 @@ void Editor::advance() {
     if (apply_due_ && !(session_->holding_result() && session_->moving())) settle_apply();
     // While an edit's run keeps the last result on show, or its region's s is
     // computed, the image does not change: a shell that keeps its image (the
-    // page, the window) has nothing new to draw until the run ends or the region is built,
-    // unless it changed something itself (the camera, the dragged curve). Its
-    // draws would take the renderer from the GPU's steps.
+    // page, the window) has nothing new to draw until the run ends or the region
+    // is built, unless it changed something itself (the camera, the dragged
+    // curve). Its draws would take the renderer from the GPU's steps.
     const bool same_image = shell_.keeps_image() && (session_->holding_result() || session_->region_pending());
     // The last step is always drawn, and a region's final s.
     draw_due_ = (plan.draw && !same_image) || !(session_->moving() || session_->region_pending());

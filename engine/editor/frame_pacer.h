@@ -3,12 +3,13 @@
 // A draw that fits in a 60 Hz frame is made every frame, after step_budget_ms of
 // steps. On a software renderer (the page in SwiftShader, the window in llvmpipe)
 // a draw of a large mesh costs more than several steps; where the shell keeps its
-// last image (the page's canvas, the window's displayed buffer), the pacer then draws only once the steps since the last draw took
-// about three draws' time, and fills each frame up to that length with steps, so
-// drawing takes about a quarter of the run and no frame is much longer than
-// max_frame_ms. A draw's cost is what the frame after it waited, or, where the
-// shell can tell (the page, by a GL fence), how long the renderer took to finish
-// it; while the renderer is still busy with the last draw no costly draw is added.
+// last image (the page's canvas, the window's displayed buffer), the pacer then
+// draws only once the steps since the last draw took about three draws' time,
+// and fills each frame up to that length with steps, so drawing takes about a
+// quarter of the run and no frame is much longer than max_frame_ms. A draw's cost
+// is what the frame after it waited, or, where the shell can tell (the page, by a
+// GL fence), how long the renderer took to finish it; while the renderer is still
+// busy with the last draw no costly draw is added.
 // Times are milliseconds on any steady clock, given by the caller.
 
 namespace vfsd::editor {
