@@ -150,6 +150,9 @@ public:
     void frame();
     // Something may look different: draw the next frame (resumes a paused loop).
     void wake();
+    // Only the overlay may look different: hand the page the next frame's overlay
+    // without drawing the canvas.
+    void wake_overlay();
     json command(const json& c);
     void pointer(int kind, double x, double y, int button, bool shift);
     void wheel(double delta, double x, double y) {
@@ -175,7 +178,7 @@ public:
 private:
     void init_gl();
     std::string url_choice(const json& options, const char* name, const std::vector<std::string>& allowed);
-    editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_, multisampled_}; }
+    editor::PageInfo page() const { return {kFiles, gl_renderer_, lost_, multisampled_, frames_drawn_}; }
     void pause();
     void resume();
     // Wakes the loop as it goes out of scope (an event's or a command's handler
@@ -183,8 +186,9 @@ private:
     struct WakeAfter {
         App& app;
         bool wake = true;
+        bool overlay_only = false;  // set once the handler knows the canvas's image did not change
         ~WakeAfter() {
-            if (wake) app.wake();
+            if (wake) overlay_only ? app.wake_overlay() : app.wake();
         }
     };
     enum class Timing { animation_frames, timeout, immediate };
@@ -194,6 +198,7 @@ private:
     void poll_fence();
 
     bool dirty_ = true;    // draw the next frame
+    bool overlay_due_ = false;  // hand the page the next frame's overlay, even without a draw
     long frames_drawn_ = 0;
     GLsync fence_ = nullptr;  // set after each draw, until the GPU finished it
     double fenced_at_ = 0.0;
@@ -288,12 +293,20 @@ Viewport App::viewport() const {
 // kind: 0 press, 1 move, 2 release, 3 leave; another button or Shift pans.
 // The loop is woken after the event, as after a command: a release that started
 // a run is then started by a timeout, not the next animation frame.
+// A move that changed neither the camera nor what the canvas shows (the session's
+// revision: positions, s) changes only the overlay: the hover highlight, the brush,
+// a dragged point. The canvas then keeps its image; on a software renderer a draw
+// of a large mesh takes 50-150 ms, and during an edit's run it would take the
+// renderer from the steps.
 void App::pointer(int kind, double x, double y, int button, bool shift) {
-    const WakeAfter wake_after{*this};  // the hover highlight and the brush follow the pointer
+    WakeAfter wake_after{*this};  // the hover highlight and the brush follow the pointer
+    const std::uint64_t revision = editor_->session().revision();
+    const glm::dmat4 view = editor_->camera().view();
     if (kind == 0) editor_->press(x, y, button != 0 || shift);
     else if (kind == 1) editor_->move(x, y);
     else if (kind == 2) editor_->release();
     else editor_->leave();
+    wake_after.overlay_only = kind == 1 && editor_->session().revision() == revision && editor_->camera().view() == view;
 }
 
 // The page's commands (editor/page_api.h), and the context-loss handlers' test hook.
@@ -325,6 +338,11 @@ std::size_t App::array(int which) {
 
 void App::wake() {
     dirty_ = true;
+    resume();
+}
+
+void App::wake_overlay() {
+    overlay_due_ = true;
     resume();
 }
 
@@ -386,9 +404,10 @@ void App::frame() {
         log(std::string("frame: ") + e.what());
     }
     const double now = emscripten_get_now();
-    bool shown = draw;  // this frame changed what the page shows
-    if (draw) {
-        dirty_ = false;  // a command the page runs in its frame sets it again
+    bool shown = draw || overlay_due_;  // this frame changed what the page shows
+    if (draw || overlay_due_) {
+        if (draw) dirty_ = false;  // a command the page runs in its frame sets it again
+        overlay_due_ = false;
         waiting_ = vfsd_page_frame(editor::overlay_json(editor_->overlay(editor_->pointer())).dump().c_str());
         panel_at_ = now;
     } else if (editor_->busy() && now - panel_at_ >= kProgressMs) {

@@ -143,6 +143,7 @@ json page_state(const Editor& editor, const PageInfo& page) {
             {"backend_reason", s.stats().backend_reason},
             {"renderer", page.renderer},
             {"multisampled", page.multisampled},
+            {"canvas_draws", page.canvas_draws},
             {"target_time", s.target_time()},
             {"moving", s.moving()},
             {"holding", s.holding_result()},         // the last result on show while an edit's run catches up

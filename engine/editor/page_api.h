@@ -18,6 +18,7 @@ struct PageInfo {
     std::string renderer;  // the WebGL renderer's name
     bool context_lost = false;
     bool multisampled = true;  // the view's canvas (gpu::multisample_view)
+    long canvas_draws = 0;     // the view's draws so far (frames that only moved the overlay do not count)
 };
 
 // Everything the panel shows: stats, tool settings, control points, undo / redo,

@@ -2,7 +2,8 @@
 // what headless Chromium gives) the page runs the CPU path and says why, unless
 // ?backend=gpu asks for the GPU path; there it draws without multisampling (each
 // sample would be shaded on the CPU) unless ?antialias=on asks. Once the deformation has stopped the page
-// draws no frames; the pointer over the view draws again, then it stops again.
+// draws no frames; the pointer over the view draws its overlay again (the canvas
+// only where the camera turns), then it stops again.
 // An unknown ?antialias= or ?backend= is reported in the page's log, its default taken.
 import { openPage, check } from './harness.mjs';
 
@@ -39,13 +40,25 @@ try {
   const idle = await framesOver(2000);
   check(idle <= 2, `idle for 2 s: ${idle} frames drawn (at most 2)`);
 
-  // The pointer over the view draws (the hover highlight follows it); then quiet again.
+  // The pointer over the view draws the overlay (the hover highlight follows it)
+  // but not the view's canvas, whose image did not change; then quiet again.
   const box = await page.locator('#vfsd-overlay').boundingBox();
   const f0 = await api(() => window.vfsd.framesDrawn());
+  const c0 = (await api(() => window.vfsd.state())).canvas_draws;
   for (let k = 0; k < 5; k++) await page.mouse.move(box.x + box.width * (0.3 + 0.05 * k), box.y + box.height / 2);
   await api(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
   const moved = (await api(() => window.vfsd.framesDrawn())) - f0;
-  check(moved >= 1, `moving the pointer over the view draws (${moved} frames)`);
+  const canvas = (await api(() => window.vfsd.state())).canvas_draws - c0;
+  check(moved >= 1, `moving the pointer over the view draws the overlay (${moved} frames)`);
+  check(canvas === 0, `and not the view's canvas (${canvas} draws)`);
+  // An orbit (the right button held) turns the camera: the canvas draws.
+  await page.mouse.move(box.x + box.width * 0.5, box.y + box.height * 0.5);
+  await page.mouse.down({ button: 'right' });
+  for (let k = 1; k <= 5; k++) await page.mouse.move(box.x + box.width * (0.5 + 0.02 * k), box.y + box.height * 0.5);
+  await page.mouse.up({ button: 'right' });
+  await api(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  const orbit = (await api(() => window.vfsd.state())).canvas_draws - c0;
+  check(orbit >= 1, `an orbit draws the canvas (${orbit} draws)`);
   await page.mouse.move(0, 0);
   await page.waitForTimeout(300);
   const after = await framesOver(2000);
