@@ -483,7 +483,7 @@ TEST_CASE("region parts list each blend vertex's blend neighbours", "[deform]") 
         }
         std::vector<std::uint32_t> listed;
         for (std::uint32_t k = parts.blend_ring_offsets[i]; k < parts.blend_ring_offsets[i + 1]; ++k)
-            listed.push_back(parts.blend[parts.blend_rings[k]]);
+            listed.push_back(parts.blend[parts.blend_rings[k] / sizeof(Float4)]);
         CHECK(listed == expected);
     }
 }

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "base/error.h"
 #include "base/parallel.h"
 #include "field/field_lanes.h"
 #include "field/vector_field.h"
@@ -378,14 +380,16 @@ void solve_lanes(int count, GradientLanes& l) {
 // Ring sizes up to this take w / size from a table in the smoothing pass.
 constexpr int kTabledRing = 64;
 
-// Σ records[ring[k]] for k = 0 .. size − 1, in that order from 0 (as a loop
-// over the ring adds them); size a constant where with_ring_size makes it one.
+// Σ of the records at byte offsets ring[k] from `records`, k = 0 .. size − 1, in
+// that order from 0 (as a loop over the ring adds them); size a constant where
+// with_ring_size makes it one.
 template <class Size>
 [[gnu::always_inline]] inline Float4 ring_sum(const Float4* records, const std::uint32_t* ring, Size size) {
+    const char* bytes = reinterpret_cast<const char*>(records);
     Float4 sum{};
     const std::uint32_t n = size;
 #pragma GCC unroll 8
-    for (std::uint32_t k = 0; k < n; ++k) sum += records[ring[k]];
+    for (std::uint32_t k = 0; k < n; ++k) sum += *reinterpret_cast<const Float4*>(bytes + ring[k]);
     return sum;
 }
 
@@ -454,13 +458,18 @@ RegionParts RegionParts::of(const std::vector<double>& s, const VertexRings& rin
     }
     for (std::size_t v = 0; v < s.size(); ++v)
         if (s[v] <= 0.0) parts.inner.push_back(static_cast<std::uint32_t>(v));
+    // blend_rings holds byte offsets in 32 bits: 2^28 records of 16 bytes.
+    if (parts.blend.size() >= (std::size_t(1) << 28))
+        throw InputError("the blend region has " + std::to_string(parts.blend.size()) +
+                         " vertices; at most 268435455 are supported");
     std::vector<std::uint32_t> position_in_blend(s.size(), 0);
     for (std::size_t i = 0; i < parts.blend.size(); ++i) position_in_blend[parts.blend[i]] = static_cast<std::uint32_t>(i);
     parts.blend_ring_offsets.reserve(parts.blend.size() + 1);
     parts.blend_ring_offsets.push_back(0);
     for (const std::uint32_t v : parts.blend) {
         for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k)
-            if (in_blend(s[rings.neighbours[k]])) parts.blend_rings.push_back(position_in_blend[rings.neighbours[k]]);
+            if (in_blend(s[rings.neighbours[k]]))
+                parts.blend_rings.push_back(position_in_blend[rings.neighbours[k]] * std::uint32_t(sizeof(Float4)));
         parts.blend_ring_offsets.push_back(static_cast<std::uint32_t>(parts.blend_rings.size()));
     }
     return parts;

@@ -29,14 +29,22 @@ void estimate_normals(const std::vector<Vec3>& positions, const VertexRings& rin
 // s = 0 and s = 1 (eq. 4), so the gradient and smoothing passes skip the rest.
 std::vector<std::uint32_t> blend_vertices(const std::vector<double>& s);
 
+// Four floats in one SIMD register (GCC/Clang vector extension: SSE on x86-64,
+// simd128 in WebAssembly built with -msimd128, plain scalar code elsewhere).
+using Float4 = float __attribute__((vector_size(16)));
+
 // Which vertices each pass visits, found once per region. The blend region
 // (0 < s < 1) needs the full field and ∇r; the inner region (s ≤ 0, b = 0) moves
 // rigidly; the outer region (s ≥ 1, b = 1) does not move, so no pass touches it.
 // Smoothing averages over blend neighbours only, so their rings are kept apart.
 struct RegionParts {
     std::vector<std::uint32_t> blend, inner;
-    // The neighbours y of blend[i] with 0 < s(y) < 1, as positions j in `blend`
+    // The neighbours y of blend[i] with 0 < s(y) < 1, as the byte offsets
+    // j · sizeof(Float4) of their records in the blend region's packed arrays
     // (y = blend[j]): blend_rings[blend_ring_offsets[i] .. blend_ring_offsets[i + 1]).
+    // Bytes, not positions: the smoothing's sums then load each record without
+    // scaling its index, one instruction fewer per neighbour (docs/benchmarks.md,
+    // "The smoothing's rings in bytes").
     std::vector<std::uint32_t> blend_ring_offsets, blend_rings;
     // 1 − b(s) and b′(s) at blend[i] (eq. 4 with r = s), taken once: the field
     // takes them at every stage, and they do not change.
@@ -44,10 +52,6 @@ struct RegionParts {
 
     static RegionParts of(const std::vector<double>& s, const VertexRings& rings);
 };
-
-// Four floats in one SIMD register (GCC/Clang vector extension: SSE on x86-64,
-// simd128 in WebAssembly built with -msimd128, plain scalar code elsewhere).
-using Float4 = float __attribute__((vector_size(16)));
 
 // ∇r on the blend region as packed float records (x, y, z, 0), record i for
 // vertex RegionParts::blend[i], as the passes hand it on: the gradient pass
