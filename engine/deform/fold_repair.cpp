@@ -945,8 +945,11 @@ std::vector<std::uint32_t> FoldRepair::search_vertices(const std::vector<std::ui
     return moved;
 }
 
-// The sum of check entry i's neighbours' unit normals in normals_.
-Vec3 FoldRepair::neighbour_normal_sum(std::size_t i) const {
+// The sum of check entry i's neighbours' unit normals in normals_. Inlined,
+// as gather_neighbour_lift below, into measure_lift's loop over every checked
+// entry: a call per entry there was 4 % of the fold repair's instructions on
+// the claw's edits (docs/benchmarks.md, "The smoothing's rings in bytes").
+[[gnu::always_inline]] inline Vec3 FoldRepair::neighbour_normal_sum(std::size_t i) const {
     const AtRest& rest = *at_rest_;
     Vec3 sum(0.0);
     for (std::uint32_t k = rest.neighbour_offsets[i]; k < rest.neighbour_offsets[i + 1]; ++k)
@@ -964,8 +967,8 @@ double FoldRepair::neighbour_lift(std::size_t i, const std::vector<Vec3>& x, con
 }
 
 // Lane j of `lanes` for check entry i: its area vector in x, `sum` and its measures at rest.
-void FoldRepair::gather_neighbour_lift(std::size_t i, const std::vector<Vec3>& x, const Vec3& sum, NeighbourLanes& l,
-                                       int j) const {
+[[gnu::always_inline]] inline void FoldRepair::gather_neighbour_lift(std::size_t i, const std::vector<Vec3>& x,
+                                                                     const Vec3& sum, NeighbourLanes& l, int j) const {
     const AtRest& rest = *at_rest_;
     const Triangle& t = rest.triangles[rest.check[i]];
     const Vec3 area = glm::cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
