@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <utility>
 
@@ -284,6 +285,9 @@ struct GradientLanes {
 __attribute__((target_clones("avx2", "default")))
 #endif
 void tangent_lanes(int count, GradientLanes& l) {
+    static_assert(kFieldLanes % 4 == 0, "ring_sums_lanes reads the tangents four lanes at a time");
+    for (int j = count; j < (count + 3) / 4 * 4; ++j)
+        l.t1.x[j] = l.t1.y[j] = l.t1.z[j] = l.t2.x[j] = l.t2.y[j] = l.t2.z[j] = 0.0;
     for (int j = 0; j < count; ++j) {
         const double nx = l.normal.x[j], ny = l.normal.y[j], nz = l.normal.z[j];
         const double sign = std::copysign(1.0, nz);
@@ -339,9 +343,12 @@ void ring_sums_lanes(const Vec3* positions, const double* s, const VertexRings& 
             size[j] = normal && g + j < count ? rings.offsets[v + 1] - begin[j] : 0;
             most = std::max(most, size[j]);
             x[j] = positions[v].x, y[j] = positions[v].y, z[j] = positions[v].z, sv[j] = s[v];
-            t1x[j] = l.t1.x[lane], t1y[j] = l.t1.y[lane], t1z[j] = l.t1.z[lane];
-            t2x[j] = l.t2.x[lane], t2y[j] = l.t2.y[lane], t2z[j] = l.t2.z[lane];
         }
+        // The tangents of lanes g .. g + kRingLanes as they lie in the block's
+        // arrays (lanes past count hold zeros, tangent_lanes'; their sums are not kept).
+        std::memcpy(&t1x, l.t1.x + g, sizeof t1x), std::memcpy(&t1y, l.t1.y + g, sizeof t1y);
+        std::memcpy(&t1z, l.t1.z + g, sizeof t1z), std::memcpy(&t2x, l.t2.x + g, sizeof t2x);
+        std::memcpy(&t2y, l.t2.y + g, sizeof t2y), std::memcpy(&t2z, l.t2.z + g, sizeof t2z);
         RingDoubles a11{}, a12{}, a22{}, r1{}, r2{};
         for (std::uint32_t k = 0; k < most; ++k) {
             std::uint32_t w[kRingLanes];
