@@ -133,6 +133,55 @@ TEST_CASE("the fold repair built in parts repairs as the one built whole, bit fo
     }
 }
 
+TEST_CASE("the neighbour test's measures with the affine test's added count and repair as both tests at once",
+          "[deform][repair]") {
+    // CpuSteps::settle_move tests a step that lands on a repair time only after
+    // an affine test's time by the neighbour test, then adds the affine test's
+    // measures for the repair: the count and the repair must be those of both
+    // tests taken together, and of a repair that measures for itself.
+    const TriangleMesh sphere = make_builtin_mesh("sphere", 3);
+    const VertexRings rings = build_vertex_rings(sphere);
+    std::vector<double> s;
+    for (const Vec3& p : sphere.positions) s.push_back(std::clamp(0.5 + p.z, 0.0, 1.0));
+    std::mt19937 random(31);
+    std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(sphere.positions.size() - 1));
+    const FoldRepair at_rest(sphere.positions, s, rings);
+    for (int trial = 0; trial < 12; ++trial) {
+        std::vector<Vec3> x = sphere.positions;
+        std::uint32_t v = pick(random);
+        while (!(s[v] > 0.0 && s[v] < 1.0)) v = pick(random);  // a blend vertex
+        const std::uint32_t n = neighbour_of(rings, v);
+        const int kind = trial % 3;  // 0: pushed through a neighbour; 1: its fan mirrored; 2: nothing
+        if (kind == 0) x[v] = x[n] + 0.7 * (x[n] - x[v]);
+        if (kind == 1) {
+            // Mirrored across a plane through v and its normal: the fan turns
+            // over together, which the neighbour test misses in part and the
+            // affine test finds.
+            const Vec3 f = glm::normalize(glm::cross(sphere.positions[v], x[n] - x[v]));
+            const auto mirror = [&](std::uint32_t u) { x[u] -= 2.0 * glm::dot(x[u] - sphere.positions[v], f) * f; };
+            mirror(v);
+            for (std::uint32_t k = rings.begin(v); k < rings.end(v); ++k) mirror(rings.neighbours[k]);
+        }
+        x = mapped(x, random_affine(random));
+        std::vector<Vec3> y = x, z = x;
+        FoldRepair added = at_rest, both = at_rest, alone = at_rest;
+        added.count_folds(mapped(sphere.positions, random_affine(random)), rings, true, true);  // an earlier test's state
+        const std::size_t by_neighbours = added.count_folds(x, rings, false, true);
+        const std::size_t by_both = added.count_folds_with_affine(x, rings);
+        CHECK(by_both == both.count_folds(y, rings, true, true));
+        CHECK(by_both >= by_neighbours);
+        if (kind == 0) CHECK(by_both > 0);
+        if (kind == 1) CHECK(by_both > by_neighbours);
+        if (kind == 2) CHECK(by_both == 0);
+        const std::size_t left = added.repair(x, rings, true, true, true);
+        CHECK(left == both.repair(y, rings, true, true, true));
+        CHECK(left == alone.repair(z, rings, true));
+        CHECK(added.acted() == (by_both > 0));
+        CHECK(x == y);
+        CHECK(x == z);
+    }
+}
+
 TEST_CASE("the lift's moves grow continuously from zero as a triangle passes its target", "[deform][repair]") {
     // A blend vertex slid toward a neighbour, by a share p of their edge: its
     // fan's triangles narrow and, past some p*, fall short of the lift's target

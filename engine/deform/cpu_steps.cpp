@@ -182,11 +182,19 @@ CpuSteps::FoldTest CpuSteps::settle_move(double time, double h, double max_error
     test.land_at = std::isfinite(max_error) ? FoldRepair::repair_time_within(time, time + h) : -1.0;
     if (test.land_at > 0.0) {
         const bool affine_at_land = FoldRepair::affine_test_due(time, test.land_at);
-        if (fold_repair_.count_folds(next_, rest_->rings, affine_at_land) > 0) {
+        // A step that passes the affine test's time only after the landing's is
+        // tested by the neighbour test for the landing, then by both for the
+        // repair: the neighbour test's measures are kept for the second, which
+        // adds the affine test's alone.
+        const bool affine_after = affine_test && !affine_at_land;
+        if (fold_repair_.count_folds(next_, rest_->rings, affine_at_land, affine_after) > 0) {
             test.verdict = FoldTest::land;
             return test;
         }
-        if (affine_at_land || !affine_test) return test;  // tested as the repair would: nothing folded
+        if (!affine_after) return test;  // tested as the repair would: nothing folded
+        test.measured = fold_repair_.count_folds_with_affine(next_, rest_->rings) > 0;
+        if (test.measured) test.verdict = FoldTest::repair;
+        return test;
     }
     test.verdict = FoldTest::repair;
     if (!test_all) return test;

@@ -554,6 +554,20 @@ std::size_t FoldRepair::count_folds(const std::vector<Vec3>& x, const VertexRing
                                     bool keep_measures) {
     if (!active()) return 0;
     measure_lift(x, rings, affine_test, keep_measures);
+    return count_short(affine_test);
+}
+
+std::size_t FoldRepair::count_folds_with_affine(const std::vector<Vec3>& x, const VertexRings& rings) {
+    if (!active()) return 0;
+    // measure_lift(x, rings, true, true)'s affine part, after its neighbour part.
+    lift_by_fit_.assign(at_rest_->check.size(), std::numeric_limits<double>::infinity());
+    test_affine(x, rings, nullptr, &lift_by_fit_);
+    return count_short(true);
+}
+
+// The entries short of the lift's target by the measures measure_lift left
+// (with `affine_test`, by either).
+std::size_t FoldRepair::count_short(bool affine_test) const {
     std::vector<std::uint8_t> short_of(at_rest_->check.size());
     parallel_for(short_of.size(), [&](std::size_t first, std::size_t last) {
         for (std::size_t i = first; i < last; ++i)

@@ -165,6 +165,11 @@ public:
     // `affine_test` that follows with `measured` (its lift then starts from them).
     std::size_t count_folds(const std::vector<Vec3>& positions, const VertexRings& rings, bool affine_test,
                             bool keep_measures = false);
+    // After count_folds(positions, rings, false, true) on the same positions:
+    // the affine test's measures too, and the count by both tests, the same as
+    // count_folds(positions, rings, true, true) (its measures kept likewise) at
+    // the cost of the affine test alone.
+    std::size_t count_folds_with_affine(const std::vector<Vec3>& positions, const VertexRings& rings);
     // Repairs the folds of `positions` (the same order as at construction) as
     // described above, by the neighbour test and, when `affine_test`, the affine
     // one; returns the number of triangles still folded after the last round.
@@ -221,6 +226,7 @@ private:
                                                      const std::vector<std::uint32_t>* moved_since = nullptr,
                                                      bool measured = false);
     void measure_lift(const std::vector<Vec3>& x, const VertexRings& rings, bool affine_test, bool flags);
+    std::size_t count_short(bool affine_test) const;
     void add_lift_moves(std::uint32_t entry, const std::vector<Vec3>& x, bool affine_test,
                         std::unordered_map<std::uint32_t, Vec3>& sum) const;
     std::vector<std::uint32_t> refresh_lift(const std::vector<Vec3>& x, const VertexRings& rings,
